@@ -1,0 +1,129 @@
+"""The workflow's view of the config: validation, motion lists, experiments, parameter-set tags."""
+
+import copy
+from pathlib import Path
+
+import pytest
+import yaml
+
+from voxpose import workflow_config as wc
+from voxpose.errors import VoxposeError
+
+ROOT = Path(__file__).resolve().parents[1]
+SCHEMA = ROOT / "config" / "schema.yaml"
+
+
+@pytest.fixture
+def config():
+    return yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
+
+
+def _merge(base: dict, override: dict) -> dict:
+    """Snakemake's --configfile semantics: nested dicts merge, other values replace."""
+    out = copy.deepcopy(base)
+    for key, value in override.items():
+        out[key] = (
+            _merge(out[key], value) if isinstance(value, dict) and isinstance(out.get(key), dict) else value
+        )
+    return out
+
+
+@pytest.mark.parametrize("name", ["config.yaml", "quick.yaml"])
+def test_shipped_configs_are_valid(name, config):
+    wc.validate_config(_merge(config, yaml.safe_load((ROOT / "config" / name).read_text())), SCHEMA)
+
+
+@pytest.mark.parametrize(
+    ("path", "value", "key"),
+    [
+        (("descriptor", "n_r"), 0, "descriptor.n_r"),
+        (("descriptor", "r_max"), 2.0, "descriptor.r_max"),
+        (("features", "n_components"), "many", "features.n_components"),
+        (("rig", "n_cameras"), 1, "rig.n_cameras"),
+        (("figure4", "n_r"), [4, 0], "figure4.n_r.1"),
+        (("regression", "pca_variance"), 1.5, "regression.pca_variance"),
+    ],
+)
+def test_out_of_schema_value_names_the_key(config, path, value, key):
+    node = config
+    for p in path[:-1]:
+        node = node[p]
+    node[path[-1]] = value
+    with pytest.raises(VoxposeError, match=rf"^config key {key}: "):
+        wc.validate_config(config, SCHEMA)
+
+
+def test_unknown_key_is_refused(config):
+    config["descriptor"]["n_rr"] = 4
+    with pytest.raises(VoxposeError, match="config key descriptor: .*n_rr"):
+        wc.validate_config(config, SCHEMA)
+
+
+def test_generated_names_and_kinds():
+    names = wc.generated_motions({"walk": [100, 120], "jump": [50]})
+    assert names == {
+        "walk_gen_00": ("walk", 0, 100),
+        "walk_gen_01": ("walk", 1, 120),
+        "jump_gen_00": ("jump", 0, 50),
+    }
+    assert wc.kind_of("irregularwalk_cmu_03_01") == "irregularwalk"
+    assert wc.kind_of("spiral_walk_cmu_08_01") == "spiral"
+
+
+def test_experiment_resolution():
+    names = ["walk_a", "walk_b", "jog_a", "spiral_x", "spiral_y"]
+    exp = wc.resolve_experiment(
+        "t", {"train": ["walk_*", "jog_*"], "test": ["spiral_*"], "exclude": ["walk_b"]}, names, "experiments"
+    )
+    assert exp == {"train": ["jog_a", "walk_a"], "test": ["spiral_x", "spiral_y"]}
+
+
+def test_overlapping_experiment_is_refused_naming_the_files():
+    names = ["walk_a", "walk_b", "spiral_x"]
+    with pytest.raises(
+        VoxposeError, match=r"config key experiments.t: test motions also in training: walk_b"
+    ):
+        wc.resolve_experiment(
+            "t", {"train": ["walk_*"], "test": ["walk_b", "spiral_*"]}, names, "experiments"
+        )
+
+
+def test_pattern_matching_nothing_names_the_key():
+    with pytest.raises(
+        VoxposeError, match=r"config key experiments.t.test: pattern 'run_\*' matches no motion"
+    ):
+        wc.resolve_experiment("t", {"train": ["walk_*"], "test": ["run_*"]}, ["walk_a"], "experiments")
+
+
+def test_bvh_dir_errors(tmp_path):
+    with pytest.raises(VoxposeError, match="config key bvh_dir: no .bvh files"):
+        wc.bvh_dir_motions(tmp_path)
+    with pytest.raises(VoxposeError, match="config key bvh_dir: .* is not a folder"):
+        wc.bvh_dir_motions(tmp_path / "missing")
+    (tmp_path / "walk_x.bvh").write_text("")
+    assert list(wc.bvh_dir_motions(tmp_path)) == ["walk_x"]
+
+
+def test_derived_source_must_exist():
+    assert wc.derived_motions([{"kind": "spiral", "source": "walk_a"}], ["walk_a"]) == {
+        "spiral_walk_a": ("spiral", "walk_a")
+    }
+    with pytest.raises(VoxposeError, match=r"config key derived.0.source: no motion named 'walk_z'"):
+        wc.derived_motions([{"kind": "spiral", "source": "walk_z"}], ["walk_a"])
+
+
+def test_tags_distinguish_parameter_sets(config):
+    d = config["descriptor"]
+    tags = {wc.descriptor_tag(dict(d, r_max=r)) for r in (0.2, 0.267, 0.333333333333, 0.4)}
+    assert len(tags) == 4
+    assert wc.descriptor_tag(d) == "R0.3333-r2-4x5x10-soft"
+    assert wc.feature_tag("mppca", config["features"]) == "mppca-K200-q5"
+    assert wc.feature_tag("kmeans", config["features"]) == "kmeans-K200-n5"
+
+
+def test_code_hash_changes_with_content(tmp_path):
+    a = tmp_path / "a.py"
+    a.write_text("x = 1\n")
+    h1 = wc.code_hash([a])
+    a.write_text("x = 2\n")
+    assert wc.code_hash([a]) != h1

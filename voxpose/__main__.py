@@ -1,0 +1,7 @@
+"""``python -m voxpose``: the same as the ``voxpose`` command."""
+
+import sys
+
+from .cli import main
+
+sys.exit(main())

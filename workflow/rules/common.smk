@@ -1,0 +1,128 @@
+# Helpers shared by all rules: config validation, the motion list, experiments, parameter-set tags.
+# All logic lives in voxpose.workflow_config (tested); this file only binds it to the workflow.
+
+import json
+import shlex
+import sys
+from pathlib import Path
+
+import voxpose
+from voxpose.errors import VoxposeError
+from voxpose import workflow_config as wc
+
+VOXPOSE_DIR = Path(voxpose.__file__).parent
+
+
+def _fail(err):
+    # a user mistake in the config: one line, non-zero exit, before any job runs
+    print(f"voxpose: error: {err}", file=sys.stderr)
+    sys.exit(2)
+
+
+try:
+    wc.validate_config(config, workflow.source_path("../../config/schema.yaml"))
+    if config["bvh_dir"]:
+        SOURCE_BVH = wc.bvh_dir_motions(config["bvh_dir"])
+        DERIVED = wc.derived_motions(config.get("derived", []), SOURCE_BVH)
+        GENERATED = {}
+        EXPERIMENT_CFG, EXPERIMENT_KEY = config["bvh_experiments"], "bvh_experiments"
+    else:
+        SOURCE_BVH, DERIVED = {}, {}
+        GENERATED = wc.generated_motions(config["generated"])
+        EXPERIMENT_CFG, EXPERIMENT_KEY = config["experiments"], "experiments"
+    MOTIONS = sorted([*SOURCE_BVH, *DERIVED, *GENERATED])
+    EXPERIMENTS = {
+        name: wc.resolve_experiment(name, exp, MOTIONS, EXPERIMENT_KEY)
+        for name, exp in EXPERIMENT_CFG.items()
+    }
+except VoxposeError as err:
+    _fail(err)
+
+RIG = config["rig"]["name"]
+DESC_CFG = config["descriptor"]
+DESC = wc.descriptor_tag(DESC_CFG)
+FEAT_CFG = config["features"]
+FEATURE_METHODS = {"mppca": FEAT_CFG, "kmeans": FEAT_CFG}
+
+
+def sweep_descriptors():
+    """Descriptor parameter sets of the Figure 4 sweeps (Section 6), each varying one setting."""
+    sets = [dict(DESC_CFG, r_max=r) for r in config["figure4"]["r_max"]]
+    sets += [dict(DESC_CFG, n_r=n) for n in config["figure4"]["n_r"]]
+    sets += [dict(DESC_CFG, n_e=ne, n_a=na) for ne, na in config["figure4"]["ne_na"]]
+    return sets
+
+
+DESCRIPTORS = {wc.descriptor_tag(c): c for c in [DESC_CFG, *sweep_descriptors()]}
+
+
+def feature_sets():
+    """Feature parameter sets by tag: the main MPPCA and K-means ones and the Figure 4 K sweep."""
+    sets = {wc.feature_tag("mppca", FEAT_CFG): ("mppca", FEAT_CFG)}
+    sets[wc.feature_tag("kmeans", FEAT_CFG)] = ("kmeans", FEAT_CFG)
+    for k in config["figure4"]["n_components"]:
+        cfg = dict(FEAT_CFG, n_components=k)
+        sets[wc.feature_tag("mppca", cfg)] = ("mppca", cfg)
+    return sets
+
+
+FEATURES = feature_sets()
+MPPCA = wc.feature_tag("mppca", FEAT_CFG)
+KMEANS = wc.feature_tag("kmeans", FEAT_CFG)
+
+
+wildcard_constraints:
+    motion=r"[^/]+",
+    rig=r"[A-Za-z0-9_.-]+",
+    desc=r"[^/]+",
+    feat=r"[^/]+",
+    exp=r"[A-Za-z0-9_]+",
+
+
+def code(*modules):
+    """Content hash of voxpose modules a rule uses (Snakemake does not see edits to the package)."""
+    return wc.code_hash([VOXPOSE_DIR / f"{m}.py" for m in modules])
+
+
+def arg(value):
+    """A Python value as one shell-quoted JSON argument."""
+    return shlex.quote(json.dumps(value))
+
+
+def experiment_motions(exp):
+    return EXPERIMENTS[exp]["train"] + EXPERIMENTS[exp]["test"]
+
+
+def run_dir(exp, desc, feat):
+    return f"results/runs/{exp}/{RIG}/{desc}/{feat}"
+
+
+def figure4_runs():
+    """(label, value, run directory) of every Figure 4 point: each its own cached target."""
+    f4 = config["figure4"]
+    runs = []
+    for r in f4["r_max"]:
+        runs.append(("r_max", r, run_dir("figure4", wc.descriptor_tag(dict(DESC_CFG, r_max=r)), MPPCA)))
+    for n in f4["n_r"]:
+        runs.append(("n_r", n, run_dir("figure4", wc.descriptor_tag(dict(DESC_CFG, n_r=n)), MPPCA)))
+    for ne, na in f4["ne_na"]:
+        tag = wc.descriptor_tag(dict(DESC_CFG, n_e=ne, n_a=na))
+        runs.append(("ne_na", f"{ne}x{na}", run_dir("figure4", tag, MPPCA)))
+    for k in f4["n_components"]:
+        runs.append(("n_components", k, run_dir("figure4", DESC, wc.feature_tag("mppca", dict(FEAT_CFG, n_components=k)))))
+    return runs
+
+
+def final_targets():
+    return [
+        "results/tables/table1.csv",
+        "results/tables/table1.md",
+        "results/tables/table2.csv",
+        "results/tables/table2.md",
+        "results/figures/figure4.png",
+        "results/figures/figure4.pdf",
+        "results/tables/figure4.csv",
+        "results/figures/gallery.png",
+        "results/figures/joint_errors.png",
+        "results/figures/error_over_time.png",
+    ]

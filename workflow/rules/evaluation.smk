@@ -1,0 +1,40 @@
+# Table 1 (one test motion type, MPPCA vs K-means vs Agarwal & Triggs) and Table 2 (five motion types at once).
+
+
+def run_file(exp, feat, name, desc=None):
+    return f"{run_dir(exp, desc or DESC, feat)}/{name}"
+
+
+rule table1:
+    input:
+        ours=run_file("table1", MPPCA, "summary.json"),
+        kmeans=run_file("table1", KMEANS, "summary.json"),
+    output:
+        csv=report("results/tables/table1.csv", caption="../report/table1.rst", category="Tables"),
+        md="results/tables/table1.md",
+    log:
+        "results/logs/table1.log",
+    localrule: True
+    threads: 1
+    resources:
+        mem_mb=500,
+        runtime=2,
+    shell:
+        "voxpose table1 --ours {input.ours} --kmeans {input.kmeans} --csv {output.csv} --md {output.md} --log {log}"
+
+
+rule table2:
+    input:
+        summary=run_file("table2", MPPCA, "summary.json"),
+    output:
+        csv=report("results/tables/table2.csv", caption="../report/table2.rst", category="Tables"),
+        md="results/tables/table2.md",
+    log:
+        "results/logs/table2.log",
+    localrule: True
+    threads: 1
+    resources:
+        mem_mb=500,
+        runtime=2,
+    shell:
+        "voxpose table2 --summary {input.summary} --csv {output.csv} --md {output.md} --log {log}"

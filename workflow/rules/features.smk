@@ -1,0 +1,53 @@
+# Feature transformation (Section 5): MPPCA fitted on an experiment's training descriptors -> Eq. 5 features;
+# the K-means soft-vote histogram as the baseline (Table 1, third row).
+
+
+def train_descriptors(w):
+    return expand(
+        "results/descriptors/{rig}/{desc}/{motion}.h5", rig=w.rig, desc=w.desc, motion=EXPERIMENTS[w.exp]["train"]
+    )
+
+
+def all_descriptors(w):
+    return expand(
+        "results/descriptors/{rig}/{desc}/{motion}.h5", rig=w.rig, desc=w.desc, motion=experiment_motions(w.exp)
+    )
+
+
+rule fit_features:
+    input:
+        train_descriptors,
+    output:
+        "results/features/{exp}/{rig}/{desc}/{feat}/model.h5",
+    params:
+        method=lambda w: FEATURES[w.feat][0],
+        cfg=lambda w: arg(FEATURES[w.feat][1]),
+        seed=config["seed"],
+        code=code("mppca", "kmeans", "frame_features", "store"),
+    log:
+        "results/logs/fit_features/{exp}/{rig}/{desc}/{feat}.log",
+    threads: 2
+    resources:
+        mem_mb=6000,
+        runtime=60,
+    shell:
+        "voxpose fit-features --method {params.method} --params {params.cfg} --seed {params.seed}"
+        " -o {output} --log {log} {input}"
+
+
+rule features:
+    input:
+        model="results/features/{exp}/{rig}/{desc}/{feat}/model.h5",
+        descriptors=all_descriptors,
+    output:
+        "results/features/{exp}/{rig}/{desc}/{feat}/features.h5",
+    params:
+        code=code("mppca", "kmeans", "frame_features", "store"),
+    log:
+        "results/logs/features/{exp}/{rig}/{desc}/{feat}.log",
+    threads: 2
+    resources:
+        mem_mb=4000,
+        runtime=30,
+    shell:
+        "voxpose features {input.model} -o {output} --log {log} {input.descriptors}"

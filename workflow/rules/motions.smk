@@ -1,0 +1,64 @@
+# Motion capture in: BVH files (generated, derived or the user's) -> canonical poses per motion (Section 2).
+
+
+rule generate_bvh:
+    output:
+        "results/bvh/generated/{motion}.bvh",
+    params:
+        spec=lambda w: GENERATED[w.motion],
+        seed=config["seed"],
+        code=code("motion_generator", "bvh"),
+    log:
+        "results/logs/generate_bvh/{motion}.log",
+    threads: 1
+    resources:
+        mem_mb=500,
+        runtime=5,
+    shell:
+        "voxpose generate --kind {params.spec[0]} --index {params.spec[1]} --frames {params.spec[2]}"
+        " --seed {params.seed} -o {output} --log {log}"
+
+
+rule derive_bvh:
+    input:
+        lambda w: SOURCE_BVH[DERIVED[w.motion][1]],
+    output:
+        "results/bvh/derived/{motion}.bvh",
+    params:
+        kind=lambda w: DERIVED[w.motion][0],
+        seed=config["seed"],
+        code=code("derived_motions", "bvh"),
+    log:
+        "results/logs/derive_bvh/{motion}.log",
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    shell:
+        "voxpose derive --kind {params.kind} --seed {params.seed} {input} -o {output} --log {log}"
+
+
+def bvh_path(w):
+    if w.motion in SOURCE_BVH:
+        return SOURCE_BVH[w.motion]
+    if w.motion in DERIVED:
+        return f"results/bvh/derived/{w.motion}.bvh"
+    return f"results/bvh/generated/{w.motion}.bvh"
+
+
+rule motion:
+    input:
+        bvh_path,
+    output:
+        "results/motions/{motion}.h5",
+    params:
+        cfg=arg(config["motions"]),
+        code=code("motion_loader", "bvh", "kinematics", "joint_map", "canonical_pose", "rotations", "store"),
+    log:
+        "results/logs/motion/{motion}.log",
+    threads: 1
+    resources:
+        mem_mb=lambda w, input: 500 + int(40 * input.size_mb),
+        runtime=5,
+    shell:
+        "voxpose motion {input} -o {output} --params {params.cfg} --log {log}"

@@ -1,0 +1,41 @@
+# Body model -> silhouettes from the calibrated rig -> carved voxels, surface and basis voxels (Sections 4, 6).
+
+
+rule rig:
+    input:
+        [config["rig"]["file"]] if config["rig"]["file"] else [],
+    output:
+        "results/rigs/{rig}.json",
+    params:
+        cfg=arg(config["rig"]),
+        code=code("cameras"),
+    log:
+        "results/logs/rig/{rig}.log",
+    localrule: True
+    threads: 1
+    resources:
+        mem_mb=200,
+        runtime=2,
+    shell:
+        "voxpose rig --params {params.cfg} -o {output} --log {log}"
+
+
+rule voxelize:
+    input:
+        motion="results/motions/{motion}.h5",
+        rig="results/rigs/{rig}.json",
+    output:
+        "results/voxels/{rig}/{motion}.h5",
+    params:
+        cfg=arg(config["voxels"]),
+        seed=config["seed"],
+        code=code("voxelize", "body", "cameras", "render", "carve", "surface", "store"),
+    log:
+        "results/logs/voxelize/{rig}/{motion}.log",
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=lambda w, input: 5 + int(2 * input.size_mb),
+    shell:
+        "voxpose voxelize {input.motion} --rig {input.rig} --params {params.cfg} --seed {params.seed}"
+        " -o {output} --log {log}"
