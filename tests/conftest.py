@@ -1,0 +1,159 @@
+"""Shared fixtures: the shared real BVH folder, and small hand-made skeletons with known geometry."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from voxpose.bvh import Bvh, BvhJoint, joint_columns, rotation_order
+from voxpose.kinematics import local_transforms
+from voxpose.rotations import matrix_to_euler
+
+SHARED_BVH = Path(__file__).resolve().parents[1].parent / "shared/data/bvh"
+
+ROOT_CHANNELS = ("Xposition", "Yposition", "Zposition", "Zrotation", "Xrotation", "Yrotation")
+JOINT_CHANNELS = ("Zrotation", "Xrotation", "Yrotation")
+
+# A T-pose skeleton in metres (Y up, facing +Z, the subject's left at +X) with the generated preset's
+# names: (name, parent name, offset, End Site offset or None). The toes are level with the ankles.
+_GENERATED = [
+    ("Hips", None, (0.0, 0.0, 0.0), None),
+    ("Spine", "Hips", (0.0, 0.10, 0.0), None),
+    ("Chest", "Spine", (0.0, 0.15, 0.0), None),
+    ("Neck", "Chest", (0.0, 0.25, 0.0), None),
+    ("Head", "Neck", (0.0, 0.08, 0.0), (0.0, 0.17, 0.0)),
+    ("LeftShoulder", "Chest", (0.03, 0.22, 0.0), None),
+    ("LeftArm", "LeftShoulder", (0.15, 0.0, 0.0), None),
+    ("LeftForeArm", "LeftArm", (0.28, 0.0, 0.0), None),
+    ("LeftHand", "LeftForeArm", (0.25, 0.0, 0.0), (0.09, 0.0, 0.0)),
+    ("RightShoulder", "Chest", (-0.03, 0.22, 0.0), None),
+    ("RightArm", "RightShoulder", (-0.15, 0.0, 0.0), None),
+    ("RightForeArm", "RightArm", (-0.28, 0.0, 0.0), None),
+    ("RightHand", "RightForeArm", (-0.25, 0.0, 0.0), (-0.09, 0.0, 0.0)),
+    ("LeftUpLeg", "Hips", (0.09, -0.08, 0.0), None),
+    ("LeftLeg", "LeftUpLeg", (0.0, -0.42, 0.0), None),
+    ("LeftFoot", "LeftLeg", (0.0, -0.41, 0.0), None),
+    ("LeftToe", "LeftFoot", (0.0, 0.0, 0.12), (0.0, 0.0, 0.05)),
+    ("RightUpLeg", "Hips", (-0.09, -0.08, 0.0), None),
+    ("RightLeg", "RightUpLeg", (0.0, -0.42, 0.0), None),
+    ("RightFoot", "RightLeg", (0.0, -0.41, 0.0), None),
+    ("RightToe", "RightFoot", (0.0, 0.0, 0.12), (0.0, 0.0, 0.05)),
+]
+
+# The same body with CMU cgspeed names: a finger joint carries the hand's End Site, ToeBase the toe's.
+_CMU_NAMES = {"LeftToe": "LeftToeBase", "RightToe": "RightToeBase"}
+
+
+def _cmu_layout():
+    out = []
+    for name, parent, offset, site in _GENERATED:
+        name, parent = _CMU_NAMES.get(name, name), _CMU_NAMES.get(parent, parent)
+        if name in ("LeftHand", "RightHand"):
+            side = name[:-4]
+            sign = 1.0 if side == "Left" else -1.0
+            out.append((name, parent, offset, None))
+            out.append((f"{side}HandIndex1", name, (sign * 0.05, 0.0, 0.0), (sign * 0.04, 0.0, 0.0)))
+        else:
+            out.append((name, parent, offset, site))
+    return out
+
+
+def _depth_first(layout):
+    """Order a (name, parent, ...) list depth first, children in listed order."""
+    children = {}
+    for row in layout:
+        children.setdefault(row[1], []).append(row)
+    out, stack = [], list(reversed(children[None]))
+    while stack:
+        row = stack.pop()
+        out.append(row)
+        stack.extend(reversed(children.get(row[0], [])))
+    return out
+
+
+def skeleton(style: str = "generated") -> list[BvhJoint]:
+    """The hand-made T-pose skeleton, ``style`` "generated" or "cmu" (names of that preset)."""
+    layout = _depth_first(_GENERATED if style == "generated" else _cmu_layout())
+    index = {row[0]: i for i, row in enumerate(layout)}
+    return [
+        BvhJoint(
+            name=name,
+            parent=-1 if parent is None else index[parent],
+            offset=np.array(offset, dtype=float),
+            channels=ROOT_CHANNELS if parent is None else JOINT_CHANNELS,
+            end_site=None if site is None else np.array(site, dtype=float),
+        )
+        for name, parent, offset, site in layout
+    ]
+
+
+def tpose_bvh(style: str = "generated", n_frames: int = 1, root=(0.0, 0.95, 0.0)) -> Bvh:
+    """The skeleton standing still in its T-pose at ``root`` for ``n_frames`` frames (30 fps)."""
+    joints = skeleton(style)
+    motion = np.zeros((n_frames, sum(len(j.channels) for j in joints)))
+    motion[:, :3] = root
+    return Bvh(joints=joints, frame_time=1 / 30, motion=motion)
+
+
+def set_rotation(bvh: Bvh, name: str, zxy) -> None:
+    """Set joint ``name``'s rotation channels (Z, X, Y order of ``JOINT_CHANNELS``) in every frame."""
+    j = next(i for i, joint in enumerate(bvh.joints) if joint.name == name)
+    _, rot = joint_columns(bvh, j)
+    bvh.motion[:, rot] = zxy
+
+
+def random_motion(
+    style: str = "generated", n_frames: int = 40, seed: int = 0, rigid_trunk: bool = False
+) -> Bvh:
+    """Smooth random motion of the hand-made skeleton: each rotation channel a seeded sum of sinusoids.
+
+    ``rigid_trunk`` keeps the spine, neck, head and clavicles still, so the pelvis and neck frames are
+    rigidly attached to each other (canonical forward kinematics is then exact).
+    """
+    rng = np.random.default_rng(seed)
+    bvh = tpose_bvh(style, n_frames)
+    t = np.arange(n_frames) / 30.0
+    amplitude = rng.uniform(10.0, 40.0, size=(3, bvh.motion.shape[1]))
+    freq = rng.uniform(0.3, 1.5, size=(3, bvh.motion.shape[1]))
+    phase = rng.uniform(0, 2 * np.pi, size=(3, bvh.motion.shape[1]))
+    values = np.sum(
+        amplitude[:, None] * np.sin(2 * np.pi * freq[:, None] * t[None, :, None] + phase[:, None]), 0
+    )
+    trunk = {"Spine", "Chest", "Neck", "Head", "LeftShoulder", "RightShoulder"}
+    for j, joint in enumerate(bvh.joints):
+        pos, rot = joint_columns(bvh, j)
+        if rot is not None and not (rigid_trunk and joint.name in trunk):
+            bvh.motion[:, rot] = values[:, rot] / 2.0
+    bvh.motion[:, 0] = 0.3 + 1.2 * t
+    bvh.motion[:, 1] = 0.95 + 0.03 * np.sin(4 * np.pi * t)
+    bvh.motion[:, 2] = -0.2 + 0.1 * t
+    return bvh
+
+
+def rebase_frames(bvh: Bvh, frames: dict) -> Bvh:
+    """The same motion with joint frames turned by constant rotations ``C_j`` (``{name: 3x3}``).
+
+    New offsets and translation channels ``C_p^T t``, local rotations ``C_p^T L_j C_j``, End Sites
+    ``C_j^T e``: world positions are unchanged and world rotations become ``W_j C_j``.
+    """
+    turn = [np.asarray(frames.get(j.name, np.eye(3))) for j in bvh.joints]
+    translations, local = local_transforms(bvh)
+    motion = bvh.motion.copy()
+    joints = []
+    for j, joint in enumerate(bvh.joints):
+        parent_turn = turn[joint.parent] if joint.parent >= 0 else np.eye(3)
+        pos, rot = joint_columns(bvh, j)
+        motion[:, rot] = matrix_to_euler(parent_turn.T @ local[:, j] @ turn[j], rotation_order(joint))
+        if pos is not None:
+            motion[:, pos] = translations[:, j] @ parent_turn
+        site = None if joint.end_site is None else turn[j].T @ joint.end_site
+        joints.append(BvhJoint(joint.name, joint.parent, parent_turn.T @ joint.offset, joint.channels, site))
+    return Bvh(joints=joints, frame_time=bvh.frame_time, motion=motion)
+
+
+@pytest.fixture(scope="session")
+def shared_bvh_dir() -> Path:
+    """The shared real BVH files (skipped when the folder is absent)."""
+    if not SHARED_BVH.is_dir():
+        pytest.skip(f"shared BVH data not found at {SHARED_BVH}")
+    return SHARED_BVH
