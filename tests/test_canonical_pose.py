@@ -50,7 +50,7 @@ def test_known_rotations():
     expected[canon.INDEX["root"]] = [30, 0, 0]
     expected[canon.INDEX["lshoulder"]] = [0, 0, -90]
     expected[canon.INDEX["relbow"]] = [90, 0, 0]
-    expected[canon.INDEX["lknee"]] = [0, 40, 0]
+    expected[canon.INDEX["lknee"]] = [40, 0, 0]  # XYZ order: flexion first
     expected[canon.INDEX["rankle"]] = [0, 20, 0]
     assert np.allclose(pose.angles[0], expected.ravel(), atol=1e-9)
     # world rotations: the arm points down in a body turned by 30 degrees
@@ -65,10 +65,12 @@ def test_knee_and_hip_flexion_beyond_90_degrees_stay_continuous():
     set_rotation(b, "LeftLeg", np.stack([0 * flex, flex, 0 * flex], axis=1))
     set_rotation(b, "RightUpLeg", np.stack([0 * flex, -flex, 0 * flex], axis=1))  # thigh raised forward
     pose, _, _ = pose_of(b)
-    assert np.allclose(angles_of(pose, "lknee"), np.stack([0 * flex, flex, 0 * flex], axis=1), atol=1e-7)
-    assert np.allclose(angles_of(pose, "rhip"), np.stack([0 * flex, -flex, 0 * flex], axis=1), atol=1e-7)
-    # the principal YXZ branch would have jumped to (180, 180 - flex, 180) past 90 degrees
-    principal = matrix_to_euler(axis_rotation("X", 120.0), canon.EULER_ORDER)
+    # hips and knees use XYZ: flexion is the first angle, continuous through 90 degrees
+    assert canon.EULER_ORDERS[canon.INDEX["lknee"]] == "XYZ"
+    assert np.allclose(angles_of(pose, "lknee"), np.stack([flex, 0 * flex, 0 * flex], axis=1), atol=1e-7)
+    assert np.allclose(angles_of(pose, "rhip"), np.stack([-flex, 0 * flex, 0 * flex], axis=1), atol=1e-7)
+    # under YXZ the same rotation would sit on the principal branch's jump: (180, 60, 180) at 120 degrees
+    principal = matrix_to_euler(axis_rotation("X", 120.0), "YXZ")
     assert np.allclose(np.abs(principal), [180, 60, 180])
 
 

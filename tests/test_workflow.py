@@ -31,7 +31,8 @@ def scheduled(workdir, *configfiles) -> dict:
     if "Nothing to be done" in out:
         return {}
     table = out.split("Job stats:", 1)[1]
-    return {m.group(1): int(m.group(2)) for m in re.finditer(r"^(\w+)\s+(\d+)\s*$", table, re.M) if m.group(1) != "total"}
+    rows = re.finditer(r"^(\w+)\s+(\d+)\s*$", table, re.M)
+    return {m.group(1): int(m.group(2)) for m in rows if m.group(1) != "total"}
 
 
 @pytest.fixture(scope="module")
@@ -105,7 +106,8 @@ def test_same_config_gives_identical_tables(workflow_dir):
 
 
 def test_overlapping_experiment_is_refused(workflow_dir):
-    bad = _override(workflow_dir, "overlap", "experiments:\n  table1:\n    train: ['walk_*']\n    test: ['walk_gen_02']\n")
+    text = "experiments:\n  table1:\n    train: ['walk_*']\n    test: ['walk_gen_02']\n"
+    bad = _override(workflow_dir, "overlap", text)
     proc = snakemake(workflow_dir, "-n", "--configfile", str(bad), check=False)
     assert proc.returncode != 0
     assert "voxpose: error: config key experiments.table1: test motions also in training: walk_gen_02" in proc.stderr

@@ -9,9 +9,13 @@ the identity.
 
 The pose vector y' (m' = 42) holds, for each joint in ``JOINTS`` order, three Euler angles in degrees
 of the joint's rotation relative to its parent in ``PARENTS`` (the root: relative to the world), both
-expressed in the canonical T-pose frame. The Euler convention is intrinsic Y-X-Z:
-``R = Ry(a0) @ Rx(a1) @ Rz(a2)``, stored as ``(a0, a1, a2)``; for the root, ``a0`` is the body heading
-(rotation about the vertical axis, 0 when facing +Z, positive turning towards +X).
+expressed in the canonical T-pose frame. Euler orders are intrinsic and chosen per joint (``EULER_ORDERS``)
+so that the middle angle, the one that locks at +-90 degrees, is one that stays small in human motion:
+Y-X-Z (``R = Ry(a0) @ Rx(a1) @ Rz(a2)``, stored as ``(a0, a1, a2)``) for the root, neck, arms and ankles,
+whose X rotation (pitch of the trunk, twist of an arm, ankle flexion) stays well inside +-90; X-Y-Z for
+hips and knees, which flex about X far beyond 90 degrees (crouching, jumping, running) while their Y
+(twist) stays small. For the root, ``a0`` is the body heading (rotation about the vertical axis, 0 when
+facing +Z, positive turning towards +X).
 """
 
 import numpy as np
@@ -83,6 +87,6 @@ TPOSE_DIRECTIONS = np.array(
     dtype=float,
 )
 
-EULER_ORDER = "YXZ"  # intrinsic: R = Ry @ Rx @ Rz
+EULER_ORDERS = tuple("XYZ" if j in ("lhip", "lknee", "rhip", "rknee") else "YXZ" for j in JOINTS)
 
-ANGLE_NAMES = tuple(f"{j}_{axis}" for j in JOINTS for axis in ("y", "x", "z"))
+ANGLE_NAMES = tuple(f"{j}_{axis.lower()}" for j, order in zip(JOINTS, EULER_ORDERS, strict=True) for axis in order)

@@ -19,7 +19,8 @@ whatever the source rig:
   i.e. the parent frame parallel-transported onto the segment (no twist relative to the parent).
 
 In the canonical T-pose (facing +Z, left = +X, Y up) every ``R_j`` is the identity. The joint angles are
-the Euler angles (``canon.EULER_ORDER`` = YXZ, so the root's first angle is the body heading) of the local
+the Euler angles (per-joint orders ``canon.EULER_ORDERS``: YXZ for the root, so its first angle is the body
+heading; XYZ for hips and knees, so flexion beyond 90 degrees never meets gimbal lock) of the local
 rotations ``Q_j = R_p^T R_j`` (root: ``Q = R_root``), in degrees, unwrapped over time.
 
 What is lost: the twist of a limb about its own axis (e.g. forearm pronation, thigh rotation). It does
@@ -27,16 +28,6 @@ not show in joint positions and each rig's local frames define it differently, s
 consistent across rigs; here it is zero by construction, and each limb angle triple describes only the
 direction of its segment. The spine's bending between pelvis and neck is likewise summarised by the two
 frames.
-
-Euler branch (our choice, the paper does not discuss it): YXZ's principal solution keeps the middle
-angle in [-90, 90]. Hips and knees flex about X beyond 90 degrees (crouching, the swing of a running
-stride), where the principal solution jumps by 180 degrees in its outer angles. For those joints we take
-the equivalent solution ``(a + 180, 180 - b, c + 180)`` whenever its outer angles are smaller, so hip and
-knee flexion stay continuous over the whole range; this depends on the pose only (not on the previous
-frame), so the same pose always gives the same numbers. What no branch choice can fix: with the flexion
-axis in the middle of YXZ, a hip or knee flexed close to 90 degrees while also moving sideways is near
-gimbal lock, where the first and third angles turn fast and are ill-conditioned; in the shared data this
-happens in running and jumping, not in walking.
 
 Offsets: the subject's skeleton in its own canonical frames, the median over frames of
 ``R_p^T (pos_j - pos_p)`` (root row zero), so that forward kinematics of y' (``voxpose.pose_fk``)
@@ -51,7 +42,7 @@ import numpy as np
 
 from . import canon
 from .errors import VoxposeError
-from .rotations import matrix_to_euler, minimal_rotation, unwrap_degrees
+from .rotations import matrix_to_euler_per_joint, minimal_rotation, unwrap_degrees
 
 _J = canon.INDEX
 _E = {name: i for i, name in enumerate(canon.ENDS)}
@@ -71,7 +62,6 @@ _LIMBS = (
     ("rankle", "e", "rtoe"),
 )
 # Joints whose flexion (about X) exceeds 90 degrees: Euler branch chosen for small outer angles.
-_FLEXION_JOINTS = np.array([_J[n] for n in ("lhip", "lknee", "rhip", "rknee")])
 _EPS = 1e-9
 
 
@@ -143,14 +133,8 @@ def local_rotations(rotations: np.ndarray) -> np.ndarray:
 
 
 def rotations_to_angles(local: np.ndarray) -> np.ndarray:
-    """Local rotations (F, 14, 3, 3) -> y' (F, 42) in degrees, with the flexion branch and unwrapping."""
-    euler = matrix_to_euler(local, canon.EULER_ORDER)
-    flex = euler[:, _FLEXION_JOINTS]
-    alt = flex + np.array([180.0, 0.0, 180.0])
-    alt[..., 1] = 180.0 - flex[..., 1]
-    alt = (alt + 180.0) % 360.0 - 180.0
-    use_alt = np.abs(alt[..., 0]) + np.abs(alt[..., 2]) < np.abs(flex[..., 0]) + np.abs(flex[..., 2])
-    euler[:, _FLEXION_JOINTS] = np.where(use_alt[..., None], alt, flex)
+    """Local rotations (F, 14, 3, 3) -> y' (F, 42) in degrees, unwrapped over time."""
+    euler = matrix_to_euler_per_joint(local, canon.EULER_ORDERS)
     return unwrap_degrees(euler.reshape(euler.shape[0], canon.N_ANGLES), axis=0)
 
 

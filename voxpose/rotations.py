@@ -105,3 +105,23 @@ def axis_angle_to_matrix(axis, angle_rad) -> np.ndarray:
 def unwrap_degrees(angles, axis: int = 0) -> np.ndarray:
     """Remove 360-degree jumps along ``axis`` (time), so consecutive values differ by < 180 degrees."""
     return np.rad2deg(np.unwrap(np.deg2rad(np.asarray(angles, dtype=float)), axis=axis))
+
+
+def euler_to_matrix_per_joint(angles_deg, orders) -> np.ndarray:
+    """``(..., J, 3)`` angles with one Euler order per joint (``orders``, length J) -> ``(..., J, 3, 3)``."""
+    angles = np.asarray(angles_deg, dtype=float)
+    out = np.empty(angles.shape + (3,))
+    for order in set(orders):
+        cols = [j for j, o in enumerate(orders) if o == order]
+        out[..., cols, :, :] = euler_to_matrix(angles[..., cols, :], order)
+    return out
+
+
+def matrix_to_euler_per_joint(matrix, orders) -> np.ndarray:
+    """Inverse of ``euler_to_matrix_per_joint``: ``(..., J, 3, 3)`` -> ``(..., J, 3)`` degrees."""
+    m = np.asarray(matrix, dtype=float)
+    out = np.empty(m.shape[:-1])
+    for order in set(orders):
+        cols = [j for j, o in enumerate(orders) if o == order]
+        out[..., cols, :] = matrix_to_euler(m[..., cols, :, :], order)
+    return out

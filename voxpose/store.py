@@ -178,3 +178,33 @@ def read_per_motion(path, layout: str):
         _check_layout(f, path, layout)
         motions = {name: {k: g[k][()] for k in g} for name, g in f["motions"].items()}
         return motions, _read_meta(f)
+
+
+# --- voxels/{rig}/{motion}.h5: carved voxels, surface and basis voxels per frame (Sections 4, 6) ------------
+
+_VOXEL_ARRAYS = ("ijk", "offsets", "surface", "basis", "basis_offsets", "empty", "shifts")
+
+
+def write_voxels(path, seq, meta: dict, angles=None) -> None:
+    """A ``voxelize.VoxelSequence`` (sparse voxel coordinates, chunked and compressed), the rig's calibration
+    and parameters in ``meta``, and the frames' ground-truth poses (F, 42) when known."""
+    with atomic_path(path) as tmp, _new(tmp, "voxels") as f:
+        for key in _VOXEL_ARRAYS:
+            value = np.asarray(getattr(seq, key))
+            f.create_dataset(key, data=value, compression="gzip" if value.size else None)
+        if angles is not None:
+            f.create_dataset("angles", data=angles)
+        _write_meta(f, meta | {"l_res": seq.l_res, "h_sub": seq.h_sub, "h_sub_frame": seq.h_sub_frame})
+
+
+def read_voxels(path):
+    """-> (VoxelSequence, meta, angles or None)."""
+    from .voxelize import VoxelSequence
+
+    with _open(path, "voxels") as f:
+        _check_layout(f, path, "voxels")
+        meta = _read_meta(f)
+        arrays = {key: f[key][()] for key in _VOXEL_ARRAYS}
+        angles = f["angles"][()] if "angles" in f else None
+    seq = VoxelSequence(l_res=meta["l_res"], h_sub=meta["h_sub"], h_sub_frame=meta["h_sub_frame"], **arrays)
+    return seq, meta, angles

@@ -23,7 +23,7 @@ rule fit_features:
         method=lambda w: FEATURES[w.feat][0],
         cfg=lambda w: arg(FEATURES[w.feat][1]),
         seed=config["seed"],
-        code=code("mppca", "kmeans", "frame_features", "store"),
+        code=code("mppca", "kmeans", "frame_features", "feature_model", "store"),
     log:
         "results/logs/fit_features/{exp}/{rig}/{desc}/{feat}.log",
     threads: 2
@@ -32,7 +32,7 @@ rule fit_features:
         runtime=60,
     shell:
         "voxpose fit-features --method {params.method} --params {params.cfg} --seed {params.seed}"
-        " -o {output} --log {log} {input}"
+        " -o {output} --log {log} --threads {threads} {input}"
 
 
 rule features:
@@ -42,7 +42,7 @@ rule features:
     output:
         "results/features/{exp}/{rig}/{desc}/{feat}/features.h5",
     params:
-        code=code("mppca", "kmeans", "frame_features", "store"),
+        code=code("mppca", "kmeans", "frame_features", "feature_model", "store"),
     log:
         "results/logs/features/{exp}/{rig}/{desc}/{feat}.log",
     threads: 2
@@ -50,4 +50,4 @@ rule features:
         mem_mb=4000,
         runtime=30,
     shell:
-        "voxpose features {input.model} -o {output} --log {log} {input.descriptors}"
+        "voxpose features {input.model} -o {output} --log {log} --threads {threads} {input.descriptors}"

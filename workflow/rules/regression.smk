@@ -25,5 +25,5 @@ rule regress:
     shell:
         "voxpose regress {input.features} --train {params.train} --test {params.test}"
         " --params {params.cfg} --seed {params.seed} --model {output.model} --predictions {output.predictions}"
-        " --angles {output.angles} --summary {output.summary} --log {log}"
+        " --angles {output.angles} --summary {output.summary} --log {log} --threads {threads}"
         " {input.motions}"
