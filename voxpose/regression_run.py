@@ -3,7 +3,8 @@
 Training rows are the frames of the training motions that have a feature vector (frames with an empty hull
 are gaps and are skipped); test frames with a gap get no prediction (NaN) and are left out of the errors,
 which are reported with the number of frames they cover. The MVRVM regresses the M-dimensional PCA pose
-coordinates (Eq. 1) and predictions are mapped back to the 42 angles, where Eq. 6 is evaluated. The kernel
+coordinates (Eq. 1) of the encoded pose (``voxpose.pose_encoding``: the body heading as a point on a circle
+by default) and predictions are mapped back to the 42 angles, where Eq. 6 is evaluated. The kernel
 width is chosen on held-out training motions (whole motions held out), never on test motions.
 
 Reference baselines in the same evaluation show what the sparse Bayesian regressor buys: the mean training
@@ -15,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import canon, metrics
+from . import canon, metrics, pose_encoding
 from .baselines import KernelRidge, MeanPose, NearestNeighbour
 from .errors import VoxposeError
 from .mvrvm import MVRVM, select_kernel_width
@@ -71,7 +72,9 @@ def run(features: dict, motions: dict, train: list, test: list, cfg: dict, seed:
     ``features``: motion -> {"features": (F, K), "counts": (F,)}; ``motions``: motion -> MotionData;
     ``cfg``: the config's ``regression`` section.
     """
-    x_train, y_train, groups = _rows(features, motions, train)
+    x_train, angles_train, groups = _rows(features, motions, train)
+    heading = cfg.get("heading", "vector")
+    y_train = pose_encoding.encode(angles_train, heading)
     log.info(
         "regression: %d training frames from %d motions, %d features",
         len(x_train),
@@ -113,6 +116,7 @@ def run(features: dict, motions: dict, train: list, test: list, cfg: dict, seed:
                 pred = pca.inverse_transform(baselines[method].predict(x))
             else:
                 pred = baselines[method].predict(x)
+            pred = pose_encoding.decode(pred, heading)
             full = np.full_like(motion.angles, np.nan)
             full[valid] = pred
             entry[f"pred_{method}"] = full

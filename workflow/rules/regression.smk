@@ -15,7 +15,7 @@ rule regress:
         test=lambda w: ",".join(EXPERIMENTS[w.exp]["test"]),
         cfg=arg(config["regression"]),
         seed=config["seed"],
-        code=code("pose_space", "kernels", "mvrvm", "baselines", "metrics", "pose_fk", "regression_run", "store"),
+        code=code("pose_space", "kernels", "mvrvm", "baselines", "metrics", "pose_fk", "pose_encoding", "regression_run", "store"),
     log:
         "results/logs/regress/{exp}/{rig}/{desc}/{feat}.log",
     threads: 2
