@@ -113,6 +113,30 @@ def figure4_runs():
     return runs
 
 
+def bvh_path(w):
+    if w.motion in SOURCE_BVH:
+        return SOURCE_BVH[w.motion]
+    if w.motion in DERIVED:
+        return f"results/bvh/derived/{w.motion}.bvh"
+    return f"results/bvh/generated/{w.motion}.bvh"
+
+
+def train_descriptors(w):
+    return expand(
+        "results/descriptors/{rig}/{desc}/{motion}.h5", rig=w.rig, desc=w.desc, motion=EXPERIMENTS[w.exp]["train"]
+    )
+
+
+def all_descriptors(w):
+    return expand(
+        "results/descriptors/{rig}/{desc}/{motion}.h5", rig=w.rig, desc=w.desc, motion=experiment_motions(w.exp)
+    )
+
+
+def run_file(exp, feat, name, desc=None):
+    return f"{run_dir(exp, desc or DESC, feat)}/{name}"
+
+
 def final_targets():
     return [
         "results/tables/table1.csv",

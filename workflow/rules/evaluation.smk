@@ -1,10 +1,6 @@
 # Table 1 (one test motion type, MPPCA vs K-means vs Agarwal & Triggs) and Table 2 (five motion types at once).
 
 
-def run_file(exp, feat, name, desc=None):
-    return f"{run_dir(exp, desc or DESC, feat)}/{name}"
-
-
 rule table1:
     input:
         ours=run_file("table1", MPPCA, "summary.json"),

@@ -2,18 +2,6 @@
 # the K-means soft-vote histogram as the baseline (Table 1, third row).
 
 
-def train_descriptors(w):
-    return expand(
-        "results/descriptors/{rig}/{desc}/{motion}.h5", rig=w.rig, desc=w.desc, motion=EXPERIMENTS[w.exp]["train"]
-    )
-
-
-def all_descriptors(w):
-    return expand(
-        "results/descriptors/{rig}/{desc}/{motion}.h5", rig=w.rig, desc=w.desc, motion=experiment_motions(w.exp)
-    )
-
-
 rule fit_features:
     input:
         train_descriptors,

@@ -38,14 +38,6 @@ rule derive_bvh:
         "voxpose derive --kind {params.kind} --seed {params.seed} {input} -o {output} --log {log}"
 
 
-def bvh_path(w):
-    if w.motion in SOURCE_BVH:
-        return SOURCE_BVH[w.motion]
-    if w.motion in DERIVED:
-        return f"results/bvh/derived/{w.motion}.bvh"
-    return f"results/bvh/generated/{w.motion}.bvh"
-
-
 rule motion:
     input:
         bvh_path,

@@ -1,0 +1,89 @@
+"""The ``voxpose`` command: user mistakes give one line and exit 2 with nothing left behind; stages chain."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from voxpose import canon
+from voxpose.cameras import circular_rig, save_rig
+from voxpose.silhouette_io import write_silhouette_folder
+from voxpose.store import read_motion, read_voxels
+from voxpose.voxelize import voxelize_motion
+
+
+def voxpose(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "voxpose", *map(str, args)], capture_output=True, text=True, cwd=cwd)
+
+
+def _one_line_error(proc, *fragments):
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("voxpose: error: ")
+    for fragment in fragments:
+        assert fragment in lines[0]
+
+
+def test_malformed_bvh_names_file_and_line_and_leaves_nothing(tmp_path):
+    bad = tmp_path / "walk_bad.bvh"
+    bad.write_text(
+        "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n  CHANNELS 3 Xrotation Yrotation Zrotation\n"
+        "  End Site\n  {\n    OFFSET 0 1 0\n  }\n}\nMOTION\nFrames: 2\nFrame Time: 0.1\n0 0 0\n0 zero 0\n"
+    )
+    out = tmp_path / "m.h5"
+    proc = voxpose("motion", bad, "-o", out)
+    _one_line_error(proc, f"{bad}:15:")
+    assert not out.exists()
+    assert [p.name for p in tmp_path.iterdir()] == ["walk_bad.bvh"]
+
+
+def test_bad_params_json_is_named():
+    _one_line_error(voxpose("motion", "x.bvh", "-o", "y.h5", "--params", "{fps: 30"), "--params")
+
+
+@pytest.fixture(scope="module")
+def motion_file(tmp_path_factory):
+    d = tmp_path_factory.mktemp("cli")
+    assert voxpose("generate", "--kind", "jog", "--index", "0", "--frames", "12", "--seed", "3", "-o",
+                   d / "jog_gen_00.bvh").returncode == 0  # fmt: skip
+    proc = voxpose("motion", d / "jog_gen_00.bvh", "-o", d / "jog_gen_00.h5", "--params", '{"fps": 30}')
+    assert proc.returncode == 0, proc.stderr
+    return d / "jog_gen_00.h5"
+
+
+def test_generated_motion_loads_as_canonical_pose(motion_file):
+    m = read_motion(motion_file)
+    assert (m.name, m.kind, m.n_frames) == ("jog_gen_00", "jog", 12)
+    assert m.angles.shape == (12, canon.N_ANGLES) and np.isfinite(m.angles).all()
+    assert 1.5 <= m.height <= 2.0
+
+
+def test_png_silhouettes_carve_like_the_direct_path(motion_file, tmp_path):
+    rig = circular_rig(n=4, width=160, image_height=160, focal_px=190.0, name="four")
+    save_rig(rig, tmp_path / "rig.json")
+    motion = read_motion(motion_file)
+    direct = voxelize_motion(motion, rig, n_basis=50, seed=1, keep_silhouettes=True)
+    write_silhouette_folder(direct.silhouettes, rig, tmp_path / "sil")
+    out = tmp_path / "carved.h5"
+    proc = voxpose("carve", "--rig", tmp_path / "rig.json", "--silhouettes", tmp_path / "sil", "--n-basis", 50,
+                   "--seed", 1, "-o", out)  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    carved, meta, angles = read_voxels(out)
+    assert angles is None and meta["rig"] == "four"
+    assert carved.l_res == direct.l_res and carved.h_sub == direct.h_sub
+    for key in ("ijk", "offsets", "surface", "basis", "basis_offsets", "empty"):
+        assert np.array_equal(getattr(carved, key), getattr(direct, key)), key
+
+
+def test_carve_with_a_rig_that_does_not_match_the_folders(motion_file, tmp_path):
+    rig = circular_rig(n=4, width=160, image_height=160, focal_px=190.0, name="four")
+    save_rig(rig, tmp_path / "rig.json")
+    save_rig(circular_rig(n=6, width=160, image_height=160, focal_px=190.0), tmp_path / "rig6.json")
+    seq = voxelize_motion(read_motion(motion_file), rig, n_basis=50, keep_silhouettes=True)
+    write_silhouette_folder(seq.silhouettes[:2], rig, tmp_path / "sil")
+    out = tmp_path / "carved.h5"
+    proc = voxpose("carve", "--rig", tmp_path / "rig6.json", "--silhouettes", tmp_path / "sil", "-o", out)
+    _one_line_error(proc, "sil")
+    assert not out.exists()
