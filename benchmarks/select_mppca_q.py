@@ -42,8 +42,11 @@ def main() -> None:
             t0 = time.perf_counter()
             model = MPPCA(args.components, n_latent=q, tol=args.tol, random_state=args.seed).fit(rows)
             seconds = time.perf_counter() - t0
-            print(f"{q:>3} {len(rows):>9} {model.n_iter_:>5} {seconds:>7.1f} {model.log_likelihood_[-1]:>10.3f}"
-                  f" {model.score(held_out):>11.3f}", flush=True)
+            print(
+                f"{q:>3} {len(rows):>9} {model.n_iter_:>5} {seconds:>7.1f} {model.log_likelihood_[-1]:>10.3f}"
+                f" {model.score(held_out):>11.3f}",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":

@@ -102,9 +102,7 @@ def set_rotation(bvh: Bvh, name: str, zxy) -> None:
     bvh.motion[:, rot] = zxy
 
 
-def random_motion(
-    style: str = "generated", n_frames: int = 40, seed: int = 0, rigid_trunk: bool = False
-) -> Bvh:
+def random_motion(style: str = "generated", n_frames: int = 40, seed: int = 0, rigid_trunk: bool = False) -> Bvh:
     """Smooth random motion of the hand-made skeleton: each rotation channel a seeded sum of sinusoids.
 
     ``rigid_trunk`` keeps the spine, neck, head and clavicles still, so the pelvis and neck frames are
@@ -116,9 +114,7 @@ def random_motion(
     amplitude = rng.uniform(10.0, 40.0, size=(3, bvh.motion.shape[1]))
     freq = rng.uniform(0.3, 1.5, size=(3, bvh.motion.shape[1]))
     phase = rng.uniform(0, 2 * np.pi, size=(3, bvh.motion.shape[1]))
-    values = np.sum(
-        amplitude[:, None] * np.sin(2 * np.pi * freq[:, None] * t[None, :, None] + phase[:, None]), 0
-    )
+    values = np.sum(amplitude[:, None] * np.sin(2 * np.pi * freq[:, None] * t[None, :, None] + phase[:, None]), 0)
     trunk = {"Spine", "Chest", "Neck", "Head", "LeftShoulder", "RightShoulder"}
     for j, joint in enumerate(bvh.joints):
         pos, rot = joint_columns(bvh, j)

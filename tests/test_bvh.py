@@ -98,9 +98,7 @@ def test_round_trip_parsed_file(tmp_path):
     write_bvh(b, tmp_path / "out.bvh")
     again = read_bvh(tmp_path / "out.bvh")
     assert np.array_equal(again.motion, b.motion)
-    assert [(j.name, j.parent, j.channels) for j in again.joints] == [
-        (j.name, j.parent, j.channels) for j in b.joints
-    ]
+    assert [(j.name, j.parent, j.channels) for j in again.joints] == [(j.name, j.parent, j.channels) for j in b.joints]
 
 
 @pytest.mark.parametrize(
@@ -194,9 +192,7 @@ def test_write_rejects_unwritable_hierarchies(tmp_path):
     with pytest.raises(VoxposeError, match="depth-first"):
         write_bvh(Bvh(interleaved, 0.1, motion), tmp_path / "x.bvh")
     with pytest.raises(VoxposeError, match="bad channels"):
-        write_bvh(
-            Bvh([BvhJoint("A", -1, np.zeros(3), ("Wrotation",))], 0.1, np.zeros((1, 1))), tmp_path / "x.bvh"
-        )
+        write_bvh(Bvh([BvhJoint("A", -1, np.zeros(3), ("Wrotation",))], 0.1, np.zeros((1, 1))), tmp_path / "x.bvh")
     with pytest.raises(VoxposeError, match="precision"):
         write_bvh(Bvh(j, 0.1, motion), tmp_path / "x.bvh", precision=0)
     assert list(tmp_path.iterdir()) == []

@@ -54,9 +54,7 @@ def test_known_rotations():
     expected[canon.INDEX["rankle"]] = [0, 20, 0]
     assert np.allclose(pose.angles[0], expected.ravel(), atol=1e-9)
     # world rotations: the arm points down in a body turned by 30 degrees
-    assert np.allclose(
-        pose.rotations[0, canon.INDEX["lwrist"]] @ [1, 0, 0], axis_rotation("Y", 30) @ [0, -1, 0]
-    )
+    assert np.allclose(pose.rotations[0, canon.INDEX["lwrist"]] @ [1, 0, 0], axis_rotation("Y", 30) @ [0, -1, 0])
 
 
 def test_knee_and_hip_flexion_beyond_90_degrees_stay_continuous():
@@ -150,9 +148,7 @@ def reorder_channels(bvh: Bvh, seed: int) -> Bvh:
     for j, joint in enumerate(bvh.joints):
         pos, _ = joint_columns(bvh, j)
         order = "YZX" if j == 0 else orders[rng.integers(6)]
-        values = {
-            f"{a}rotation": v for a, v in zip(order, matrix_to_euler(local[:, j], order).T, strict=True)
-        }
+        values = {f"{a}rotation": v for a, v in zip(order, matrix_to_euler(local[:, j], order).T, strict=True)}
         names = [f"{a}rotation" for a in order]
         if pos is not None:
             values |= {c: bvh.motion[:, col] for c, col in zip(POSITION_CHANNELS, pos, strict=True)}
@@ -174,9 +170,7 @@ def bones_along_x(bvh: Bvh, seed: int) -> Bvh:
         if child is not None and np.linalg.norm(child) > 1e-9:
             frames[joint.name] = minimal_rotation([1.0, 0.0, 0.0], child) @ twist
         else:
-            frames[joint.name] = axis_rotation("Z", rng.uniform(-180, 180)) @ axis_rotation(
-                "Y", rng.uniform(-90, 90)
-            )
+            frames[joint.name] = axis_rotation("Z", rng.uniform(-180, 180)) @ axis_rotation("Y", rng.uniform(-90, 90))
     return rebase_frames(bvh, frames)
 
 

@@ -97,9 +97,7 @@ def test_end_sites_give_the_ends():
     b = tpose_bvh("generated", root=(0.0, 1.0, 0.0))
     joints, ends = skeleton_points(b, resolve_joint_map(b))
     head_top = [0.0, 1.0 + 0.10 + 0.15 + 0.25 + 0.08 + 0.17, 0.0]
-    assert np.allclose(
-        ends[0], [head_top, [0.80, 1.47, 0], [-0.80, 1.47, 0], [0.09, 0.09, 0.17], [-0.09, 0.09, 0.17]]
-    )
+    assert np.allclose(ends[0], [head_top, [0.80, 1.47, 0], [-0.80, 1.47, 0], [0.09, 0.09, 0.17], [-0.09, 0.09, 0.17]])
     assert np.allclose(joints[0, canon.INDEX["lwrist"]], [0.71, 1.47, 0.0])
     # CMU layout: the hand tip is the index finger's End Site (wrist + 0.05 + 0.04)
     c = tpose_bvh("cmu", root=(0.0, 1.0, 0.0))

@@ -14,9 +14,7 @@ def chain(root_channels, child_channels, grandchild_channels, motion):
     joints = [
         BvhJoint("root", -1, np.array([5.0, 5.0, 5.0]), root_channels),
         BvhJoint("child", 0, np.array([0.0, 1.0, 0.0]), child_channels),
-        BvhJoint(
-            "tip", 1, np.array([1.0, 0.0, 0.0]), grandchild_channels, end_site=np.array([0.0, 0.0, 1.0])
-        ),
+        BvhJoint("tip", 1, np.array([1.0, 0.0, 0.0]), grandchild_channels, end_site=np.array([0.0, 0.0, 1.0])),
     ]
     return Bvh(joints, 0.1, np.atleast_2d(np.asarray(motion, dtype=float)))
 

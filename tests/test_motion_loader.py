@@ -102,9 +102,7 @@ def test_inferred_unit_is_logged(tmp_path, caplog):
     write_bvh(scaled(tpose_bvh(n_frames=2), 100.0), tmp_path / "walk_cm.bvh", precision=17)
     with caplog.at_level(logging.INFO, logger="voxpose.motion_loader"):
         load_motion(tmp_path / "walk_cm.bvh")
-    expected = (
-        f"walk_cm: unit 0.01 m inferred from a standing height of {100 * TPOSE_HEIGHT:.1f} units -> 1.73 m"
-    )
+    expected = f"walk_cm: unit 0.01 m inferred from a standing height of {100 * TPOSE_HEIGHT:.1f} units -> 1.73 m"
     assert expected in caplog.text
 
 

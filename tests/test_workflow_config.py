@@ -22,9 +22,7 @@ def _merge(base: dict, override: dict) -> dict:
     """Snakemake's --configfile semantics: nested dicts merge, other values replace."""
     out = copy.deepcopy(base)
     for key, value in override.items():
-        out[key] = (
-            _merge(out[key], value) if isinstance(value, dict) and isinstance(out.get(key), dict) else value
-        )
+        out[key] = _merge(out[key], value) if isinstance(value, dict) and isinstance(out.get(key), dict) else value
     return out
 
 
@@ -80,18 +78,12 @@ def test_experiment_resolution():
 
 def test_overlapping_experiment_is_refused_naming_the_files():
     names = ["walk_a", "walk_b", "spiral_x"]
-    with pytest.raises(
-        VoxposeError, match=r"config key experiments.t: test motions also in training: walk_b"
-    ):
-        wc.resolve_experiment(
-            "t", {"train": ["walk_*"], "test": ["walk_b", "spiral_*"]}, names, "experiments"
-        )
+    with pytest.raises(VoxposeError, match=r"config key experiments.t: test motions also in training: walk_b"):
+        wc.resolve_experiment("t", {"train": ["walk_*"], "test": ["walk_b", "spiral_*"]}, names, "experiments")
 
 
 def test_pattern_matching_nothing_names_the_key():
-    with pytest.raises(
-        VoxposeError, match=r"config key experiments.t.test: pattern 'run_\*' matches no motion"
-    ):
+    with pytest.raises(VoxposeError, match=r"config key experiments.t.test: pattern 'run_\*' matches no motion"):
         wc.resolve_experiment("t", {"train": ["walk_*"], "test": ["run_*"]}, ["walk_a"], "experiments")
 
 

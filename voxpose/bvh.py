@@ -125,9 +125,7 @@ class _Tokens:
 
     def rest_of_line(self, line: int) -> list[str]:
         out = []
-        while (
-            self.pos < len(self.items) and self.items[self.pos][1] == line and self.items[self.pos][0] != "{"
-        ):
+        while self.pos < len(self.items) and self.items[self.pos][1] == line and self.items[self.pos][0] != "{":
             out.append(self.items[self.pos][0])
             self.pos += 1
         return out
@@ -257,9 +255,7 @@ def _parse_motion(path, lines: list[str], start: int, n_channels: int) -> tuple[
         last = rows[-1][0] if rows else index
         raise VoxposeError(f"{path}:{last}: truncated MOTION: Frames: {n_frames} but {len(rows)} frame lines")
     if len(rows) > n_frames:
-        raise VoxposeError(
-            f"{path}:{rows[n_frames][0]}: more frame lines than Frames: {n_frames} ({len(rows)} lines)"
-        )
+        raise VoxposeError(f"{path}:{rows[n_frames][0]}: more frame lines than Frames: {n_frames} ({len(rows)} lines)")
     split = [line.split() for _, line in rows]
     for (number, _), values in zip(rows, split, strict=True):
         if len(values) != n_channels:

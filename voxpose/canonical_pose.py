@@ -105,8 +105,7 @@ def canonical_rotations(positions: np.ndarray, ends: np.ndarray) -> np.ndarray:
     n = positions.shape[0]
     if positions.shape != (n, canon.N_JOINTS, 3) or ends.shape != (n, len(canon.ENDS), 3):
         raise VoxposeError(
-            "canonical pose: expected positions (F, 14, 3) and ends (F, 5, 3), "
-            f"got {positions.shape} and {ends.shape}"
+            f"canonical pose: expected positions (F, 14, 3) and ends (F, 5, 3), got {positions.shape} and {ends.shape}"
         )
     if not (np.all(np.isfinite(positions)) and np.all(np.isfinite(ends))):
         raise VoxposeError("canonical pose: positions or ends hold NaN or infinite values")

@@ -72,9 +72,7 @@ class FeatureModel:
         """-> (features (n_frames, K), counts (n_frames,)); frames without descriptors get NaN rows."""
         if self.method == "mppca":
             return mppca_features(self.estimator, descriptors, frame_index, n_frames)
-        return kmeans_features(
-            self.estimator.cluster_centers_, descriptors, frame_index, n_frames, rule=self.rule
-        )
+        return kmeans_features(self.estimator.cluster_centers_, descriptors, frame_index, n_frames, rule=self.rule)
 
     def save(self, path) -> None:
         if self.method == "mppca":

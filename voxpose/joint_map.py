@@ -137,9 +137,7 @@ def _example_map() -> str:
 
 def _from_config(bvh: Bvh, joint_map, source: str) -> JointMap:
     if not isinstance(joint_map, dict):
-        raise VoxposeError(
-            f"{source}: joint_map must be a mapping {_example_map()}, got {type(joint_map).__name__}"
-        )
+        raise VoxposeError(f"{source}: joint_map must be a mapping {_example_map()}, got {type(joint_map).__name__}")
     known = set(canon.JOINTS) | set(canon.ENDS)
     unknown = sorted(str(k) for k in joint_map if k not in known)
     if unknown:
@@ -153,8 +151,7 @@ def _from_config(bvh: Bvh, joint_map, source: str) -> JointMap:
     bad = {k: v for k, v in joint_map.items() if not isinstance(v, str) or v not in names}
     if bad:
         raise VoxposeError(
-            f"{source}: joint_map names joints not in the skeleton: {bad}; "
-            f"skeleton joints: {', '.join(sorted(names))}"
+            f"{source}: joint_map names joints not in the skeleton: {bad}; skeleton joints: {', '.join(sorted(names))}"
         )
     values = [joint_map[j] for j in canon.JOINTS]
     twice = sorted({v for v in values if values.count(v) > 1})

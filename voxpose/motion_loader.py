@@ -129,9 +129,7 @@ def _frames_to_drop(bvh: Bvh, jmap: JointMap, option, path: Path) -> int:
     raise VoxposeError(f"{path}: drop_reference_frame must be auto, true or false, got {option!r}")
 
 
-def load_motion(
-    path, *, fps=30.0, unit_scale=None, joint_map=None, drop_reference_frame="auto"
-) -> MotionData:
+def load_motion(path, *, fps=30.0, unit_scale=None, joint_map=None, drop_reference_frame="auto") -> MotionData:
     """Read a BVH file and map it onto the canonical body (Section 2), resampled to ``fps``.
 
     Parameters
@@ -146,9 +144,7 @@ def load_motion(
     if not _positive(fps):
         raise VoxposeError(f"{path}: fps must be a positive number, got {fps!r}")
     if unit_scale is not None and not _positive(unit_scale):
-        raise VoxposeError(
-            f"{path}: unit_scale must be a positive number of metres per unit, got {unit_scale!r}"
-        )
+        raise VoxposeError(f"{path}: unit_scale must be a positive number of metres per unit, got {unit_scale!r}")
     bvh = read_bvh(path)
     jmap = resolve_joint_map(bvh, joint_map, source=str(path))
     dropped = _frames_to_drop(bvh, jmap, drop_reference_frame, path)

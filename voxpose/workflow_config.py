@@ -49,9 +49,7 @@ def derived_motions(derived: list, source_names) -> dict:
     source_names = set(source_names)
     for i, item in enumerate(derived):
         if item["source"] not in source_names:
-            raise VoxposeError(
-                f"config key derived.{i}.source: no motion named {item['source']!r} in bvh_dir"
-            )
+            raise VoxposeError(f"config key derived.{i}.source: no motion named {item['source']!r} in bvh_dir")
         out[f"{item['kind']}_{item['source']}"] = (item["kind"], item["source"])
     return out
 
