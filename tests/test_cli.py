@@ -87,3 +87,15 @@ def test_carve_with_a_rig_that_does_not_match_the_folders(motion_file, tmp_path)
     proc = voxpose("carve", "--rig", tmp_path / "rig6.json", "--silhouettes", tmp_path / "sil", "-o", out)
     _one_line_error(proc, "sil")
     assert not out.exists()
+
+
+def test_voxelize_exports_png_silhouettes(motion_file, tmp_path):
+    rig = circular_rig(n=3, width=96, image_height=96, focal_px=110.0, name="three")
+    save_rig(rig, tmp_path / "rig.json")
+    proc = voxpose("voxelize", motion_file, "--rig", tmp_path / "rig.json", "--params", '{"n_basis": 40}',
+                   "--export-silhouettes", tmp_path / "png", "-o", tmp_path / "v.h5")  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    seq, meta, angles = read_voxels(tmp_path / "v.h5")
+    assert angles.shape == (12, canon.N_ANGLES) and meta["motion"] == "jog_gen_00"
+    assert sorted(p.name for p in (tmp_path / "png").iterdir()) == ["cam0", "cam1", "cam2"]
+    assert len(list((tmp_path / "png" / "cam0").glob("*.png"))) == 12

@@ -126,6 +126,7 @@ def _voxelize_args(p):
     p.add_argument("--rig", required=True, help="rig calibration file (JSON)")
     p.add_argument("--params", default="{}", help="JSON: the config's `voxels` section")
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--export-silhouettes", metavar="DIR", help="also write the rendered silhouettes as PNG folders")
     _out(p)
 
 
@@ -145,7 +146,12 @@ def _voxelize(args):
         n_basis=cfg.get("n_basis", 200),
         seed=args.seed,
         follow_subject=cfg.get("follow_subject", True),
+        keep_silhouettes=bool(args.export_silhouettes),
     )
+    if args.export_silhouettes:
+        from .silhouette_io import write_silhouette_folder
+
+        write_silhouette_folder(seq.silhouettes, rig, args.export_silhouettes)
     meta = _voxel_meta(rig, args.rig, cfg, motion.name)
     meta |= {"motion": motion.name, "kind": motion.kind, "fps": motion.fps}
     write_voxels(args.output, seq, meta, angles=motion.angles)
