@@ -202,11 +202,18 @@ def test_vertical_root_range(motions):
 
 def test_heading_rates(motions):
     rate = {kind: [heading_rate(fk) for _, fk in motions[kind]] for kind in KINDS}
-    assert max(rate["walk"]) < 2.0 and max(rate["jog"]) < 2.0  # straight (pelvic yaw averaged out)
-    assert min(rate["spiral"]) > 10 * max(rate["walk"])
-    assert min(rate["drunk"]) > 2 * max(rate["walk"])
-    spreads = {kind: [np.degrees(np.std(heading(fk))) for _, fk in motions[kind]] for kind in ("walk", "drunk")}
-    assert np.mean(spreads["drunk"]) > 5 * np.mean(spreads["walk"])
+    # walk and jog turn steadily at 8-20 degrees per second, the spiral faster (its radius shrinks)
+    assert 6.0 < min(rate["walk"] + rate["jog"]) and max(rate["walk"] + rate["jog"]) < 22.0
+    assert min(rate["spiral"]) > max(rate["walk"])
+
+    # the drunk heading wanders: it strays far more from a steady turn (a straight line in time) than the walk's
+    def wander(fk):
+        psi = np.degrees(heading(fk))[FPS:-FPS]  # without the ends, where the 1 s smoothing bends the line
+        t = np.arange(len(psi))
+        return float(np.std(psi - np.polyval(np.polyfit(t, psi, 1), t)))
+
+    strays = {kind: [wander(fk) for _, fk in motions[kind]] for kind in ("walk", "drunk")}
+    assert np.mean(strays["drunk"]) > 5 * np.mean(strays["walk"])
 
 
 def test_spiral_turns_one_way_with_growing_curvature(motions):

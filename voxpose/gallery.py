@@ -39,7 +39,7 @@ def gallery(predictions: dict, voxels: dict, per_kind: int = 3, method: str = "m
     picks = [p for p in pick_frames(predictions, per_kind) if p[0] in voxels]
     n_cols = min(6, max(1, len(picks)))
     n_rows = int(np.ceil(len(picks) / n_cols))
-    fig = plt.figure(figsize=(2.6 * n_cols, 3.2 * n_rows))
+    fig = plt.figure(figsize=(3.4 * n_cols, 4.2 * n_rows))
     for i, (name, f) in enumerate(picks):
         seq, _ = voxels[name]
         pred = predictions[name]

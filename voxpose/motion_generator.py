@@ -57,16 +57,21 @@ out over 0.1 s after toe-off); a swing foot is lifted just enough to clear the g
 the stretched leg cannot reach rolls heel-up about its ball (``_toe_rocker``). Foot orientations are
 kept, so contact heights do not change.
 
-The types. ``walk``: constant heading. ``jog``: running curves (more knee and elbow flexion, flight
-phases), faster cadence, more forward lean. ``spiral``: walking whose heading follows the tangent of a
+The types. ``walk``: a steady gentle turn (8-20 degrees per second, left or right: a circle of 4-10 m
+radius). ``jog``: running curves (more knee and elbow flexion, flight phases), faster cadence, more
+forward lean, turning like ``walk``. Why every type turns: the 3D shape contexts are aligned with the world
+(Section 4), so the regressor can only recognise a body heading that its training frames cover; the
+paper's training set includes turning walks (Section 6), and a few straight sequences would cover a few
+headings only. ``spiral``: walking whose heading follows the tangent of a
 spiral of shrinking radius (``spiral_heading``: the radius of curvature falls linearly with the
 distance walked, from r_start (3-4.5 m) to r_end (1-1.6 m) over the sequence), turning left or right,
 the trunk leaning into the turn by atan(v^2 / (g r)). ``drunk``: walking with a wandering heading
 (``random_walk_heading``, 25-35 degrees per sqrt(s)), irregular cadence and step length, a large irregular
 sideways sway, a wider stance, a smooth random torso lean and head roll, arms held away from the body.
 ``jump``: repeated jumps (``_jump_plan``): stand, crouch with the arms back, push-off with the arms
-swinging over the head, a ballistic flight (0.12-0.35 m high, up to 0.5 m forward, a small turn),
-landing and recovery; both feet stay planted on the ground between flights.
+swinging over the head, a ballistic flight (0.12-0.35 m high, up to 0.5 m forward, a turn of 15-40
+degrees, the same way for the whole sequence), landing and recovery; both feet stay planted on the
+ground between flights.
 
 Per-sequence variation comes from the seed: height (1.5-2.0 m), cadence, stride scale (hence speed and
 stride length), arm swing amplitude, initial heading and position (within 1 m of the origin), and each
@@ -377,7 +382,7 @@ class _Plan:
     smooth_s: float  # Gaussian width (seconds) smoothing the root's horizontal steps; 0 = none
 
 
-def _gait_plan(kind: str, rng: np.random.Generator, t: np.ndarray) -> _Plan:
+def _gait_plan(kind: str, rng: np.random.Generator, t: np.ndarray, turn_rate: float | None = None) -> _Plan:
     """Angles of a walking or jogging gait (``walk``, ``drunk``, ``spiral``, ``jog``) at times ``t``."""
     g = _GAITS[kind]
     n, dt = len(t), t[1] - t[0]
@@ -399,7 +404,10 @@ def _gait_plan(kind: str, rng: np.random.Generator, t: np.ndarray) -> _Plan:
         turn = random_walk_heading(rng, n, dt, rate=u(25.0, 35.0), smooth_s=0.5)
     else:
         rate, stride_t, sway_mod = np.full(n, cadence), np.full(n, stride), np.ones(n)
-        stagger = lean_roll = lean_pitch = head_roll = arm_noise = turn = zeros
+        stagger = lean_roll = lean_pitch = head_roll = arm_noise = zeros
+        # steady gentle turn (see the module docstring); the spiral replaces it by its own heading
+        drawn = rng.choice([-1.0, 1.0]) * u(8.0, 20.0)
+        turn = zeros if kind == "spiral" else (drawn if turn_rate is None else turn_rate) * (t - t[0])
     phase = rng.uniform() + np.concatenate([[0.0], np.cumsum((rate[1:] + rate[:-1]) / 2 * dt)])
     cos = np.cos
 
@@ -452,17 +460,18 @@ def _jump_plan(rng: np.random.Generator, t: np.ndarray) -> _Plan:
     """Repeated jumps: stand, crouch (arms back), push-off (arms swing up), ballistic flight, landing.
 
     Each jump draws its phase durations, crouch depth, flight height h (0.12-0.35 m, flight time
-    2 sqrt(2 h / g)), forward distance (0-0.5 m, covered in flight) and a heading turn (sd 8 degrees,
-    made in flight). Keyframes (``_JUMP_KEYS``) are joined by PCHIP over time. The ankle keeps the foot
-    flat: dorsiflexion = knee - hip + pelvis tilt - heel rise.
+    2 sqrt(2 h / g)), forward distance (0-0.5 m, covered in flight) and a heading turn (15-40 degrees, one
+    way for the whole sequence, made in flight). Keyframes (``_JUMP_KEYS``) are joined by PCHIP over time. The
+    ankle keeps the foot flat: dorsiflexion = knee - hip + pelvis tilt - heel rise.
     """
     times, values, flights, turns = [], [], [], []
     clock, heading = t[0] - rng.uniform(0.0, 0.8), 0.0
+    direction = rng.choice([-1.0, 1.0])
     while clock <= t[-1] + 1.0:
         stand, crouch, push = rng.uniform(0.3, 0.7), rng.uniform(0.4, 0.55), rng.uniform(0.2, 0.28)
         absorb, recover = rng.uniform(0.22, 0.32), rng.uniform(0.35, 0.5)
         depth, height = rng.uniform(0.7, 1.0), rng.uniform(0.12, 0.35)
-        distance, turn = rng.uniform(0.0, 0.5), rng.normal(0.0, 8.0)
+        distance, turn = rng.uniform(0.0, 0.5), direction * rng.uniform(15.0, 40.0)
         air = 2.0 * np.sqrt(2.0 * height / GRAVITY)
         keys = _JUMP_KEYS.copy()
         keys[1] *= depth
@@ -721,7 +730,9 @@ def _draw_height(rng: np.random.Generator, height) -> float:
     return float(height)
 
 
-def generate_motion(kind: str, *, seed, n_frames: int, fps: float = 30.0, height: float | None = None) -> Bvh:
+def generate_motion(
+    kind: str, *, seed, n_frames: int, fps: float = 30.0, height: float | None = None, turn_rate: float | None = None
+) -> Bvh:
     """One synthetic motion of ``kind`` (``KINDS``) as a ``Bvh`` in metres (see the module docstring).
 
     Parameters
@@ -730,6 +741,8 @@ def generate_motion(kind: str, *, seed, n_frames: int, fps: float = 30.0, height
     seed : int or ``np.random.SeedSequence``; every random choice is drawn from it.
     n_frames : number of frames (>= 2); ``fps`` the frame rate.
     height : the subject's standing height in metres; drawn from 1.5-2.0 m when None.
+    turn_rate : steady turn of ``walk`` and ``jog`` in degrees per second (positive: towards +X); drawn
+        (8-20, either way) when None; 0 gives a straight walk.
     """
     if kind not in KINDS:
         raise VoxposeError(f"generate_motion: unknown motion kind {kind!r} (known: {', '.join(KINDS)})")
@@ -750,7 +763,7 @@ def generate_motion(kind: str, *, seed, n_frames: int, fps: float = 30.0, height
     dt = 1.0 / fps
     pad = int(np.ceil(1.5 * fps))  # simulated before and after, so flights and noise have context
     t = (np.arange(n_frames + 2 * pad) - pad) * dt
-    plan = _jump_plan(rng, t) if kind == "jump" else _gait_plan(kind, rng, t)
+    plan = _jump_plan(rng, t) if kind == "jump" else _gait_plan(kind, rng, t, turn_rate)
     local = _local_rotations(plan.angles, len(t))
     support = _support(joints, local, plan, t, height)
     heading = heading0 + plan.turn

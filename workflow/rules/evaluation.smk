@@ -8,6 +8,8 @@ rule table1:
     output:
         csv=report("results/tables/table1.csv", caption="../report/table1.rst", category="Tables"),
         md="results/tables/table1.md",
+    params:
+        code=code("tables", "store"),
     log:
         "results/logs/table1.log",
     localrule: True
@@ -25,6 +27,8 @@ rule table2:
     output:
         csv=report("results/tables/table2.csv", caption="../report/table2.rst", category="Tables"),
         md="results/tables/table2.md",
+    params:
+        code=code("tables", "store"),
     log:
         "results/logs/table2.log",
     localrule: True

@@ -10,6 +10,7 @@ rule figure4:
         csv=report("results/tables/figure4.csv", caption="../report/figure4_table.rst", category="Tables"),
     params:
         runs=arg([[label, value, f"{d}/summary.json"] for label, value, d in figure4_runs()]),
+        code=code("figures", "tables", "store"),
     log:
         "results/logs/figure4.log",
     localrule: True
@@ -27,6 +28,8 @@ rule gallery:
         voxels=lambda w: expand("results/voxels/{rig}/{motion}.h5", rig=RIG, motion=EXPERIMENTS["table2"]["test"]),
     output:
         report("results/figures/gallery.png", caption="../report/gallery.rst", category="Figures"),
+    params:
+        code=code("gallery", "figures", "pose_fk", "store"),
     log:
         "results/logs/gallery.log",
     threads: 1
@@ -43,6 +46,8 @@ rule joint_errors:
         table2=run_file("table2", MPPCA, "summary.json"),
     output:
         report("results/figures/joint_errors.png", caption="../report/joint_errors.rst", category="Figures"),
+    params:
+        code=code("figures"),
     log:
         "results/logs/joint_errors.log",
     localrule: True
@@ -60,6 +65,8 @@ rule error_over_time:
         table2=run_file("table2", MPPCA, "predictions.h5"),
     output:
         report("results/figures/error_over_time.png", caption="../report/error_over_time.rst", category="Figures"),
+    params:
+        code=code("figures", "store"),
     log:
         "results/logs/error_over_time.log",
     localrule: True

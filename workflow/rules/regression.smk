@@ -18,7 +18,7 @@ rule regress:
         code=code("pose_space", "kernels", "mvrvm", "baselines", "metrics", "pose_fk", "pose_encoding", "regression_run", "store"),
     log:
         "results/logs/regress/{exp}/{rig}/{desc}/{feat}.log",
-    threads: 2
+    threads: 1  # the MVRVM's moves are sequential; two experiments fit side by side instead
     resources:
         mem_mb=4000,
         runtime=60,
