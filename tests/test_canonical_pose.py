@@ -6,7 +6,7 @@ import pytest
 from conftest import random_motion, rebase_frames, set_rotation, tpose_bvh
 
 from voxpose import canon
-from voxpose.bvh import POSITION_CHANNELS, Bvh, BvhJoint, joint_columns, read_bvh, write_bvh
+from voxpose.bvh import POSITION_CHANNELS, Bvh, BvhJoint, joint_columns, read_bvh, rescaled, write_bvh
 from voxpose.canonical_pose import canonical_pose
 from voxpose.errors import VoxposeError
 from voxpose.joint_map import resolve_joint_map, skeleton_points
@@ -174,19 +174,6 @@ def bones_along_x(bvh: Bvh, seed: int) -> Bvh:
     return rebase_frames(bvh, frames)
 
 
-def scaled(bvh: Bvh, factor: float) -> Bvh:
-    """The same motion in a length unit ``factor`` times smaller (all offsets and positions times factor)."""
-    motion = bvh.motion.copy()
-    joints = []
-    for j, joint in enumerate(bvh.joints):
-        pos, _ = joint_columns(bvh, j)
-        if pos is not None:
-            motion[:, pos] *= factor
-        site = None if joint.end_site is None else joint.end_site * factor
-        joints.append(BvhJoint(joint.name, joint.parent, joint.offset * factor, joint.channels, site))
-    return Bvh(joints, bvh.frame_time, motion)
-
-
 def assert_same_motion(a, b):
     assert a.n_frames == b.n_frames
     assert np.abs(a.angles - b.angles).max() < 1e-6
@@ -210,7 +197,7 @@ def check_invariance(original: Bvh, stem: str, tmp_path, unit: float):
         assert_same_motion(
             load_motion(tmp_path / name / f"{stem}.bvh", unit_scale=unit, drop_reference_frame=True), base
         )
-    write_bvh(scaled(original, 100.0), tmp_path / "x100" / f"{stem}.bvh", precision=17)
+    write_bvh(rescaled(original, 100.0), tmp_path / "x100" / f"{stem}.bvh", precision=17)
     x100 = load_motion(tmp_path / "x100" / f"{stem}.bvh", unit_scale=unit / 100.0, drop_reference_frame=True)
     assert_same_motion(x100, base)
     return base

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy.ndimage import gaussian_filter1d
 
-from voxpose.bvh import Bvh, BvhJoint, joint_columns, read_bvh, write_bvh
+from voxpose.bvh import Bvh, BvhJoint, joint_columns, read_bvh, rescaled, write_bvh
 from voxpose.derived_motions import derive_file, drunk_from_walk, lean_joint, spiral_from_walk
 from voxpose.errors import VoxposeError
 from voxpose.kinematics import forward_kinematics
@@ -22,19 +22,6 @@ def generated_walk() -> Bvh:
 def hips(bvh: Bvh) -> int:
     """The pelvis joint (named Hips in all three families here)."""
     return next(i for i, j in enumerate(bvh.joints) if j.name == "Hips")
-
-
-def scaled(bvh: Bvh, factor: float) -> Bvh:
-    """The same motion in another length unit (offsets, End Sites and position channels scaled)."""
-    motion = bvh.motion.copy()
-    joints = []
-    for j, joint in enumerate(bvh.joints):
-        pos, _ = joint_columns(bvh, j)
-        if pos is not None:
-            motion[:, pos] *= factor
-        site = None if joint.end_site is None else joint.end_site * factor
-        joints.append(BvhJoint(joint.name, joint.parent, joint.offset * factor, joint.channels, site))
-    return Bvh(joints=joints, frame_time=bvh.frame_time, motion=motion)
 
 
 def walk_geometry(bvh: Bvh):
@@ -129,7 +116,7 @@ def test_spiral_of_real_walks(shared_bvh_dir, name):
 
 def test_spiral_unit_is_inferred_from_the_skeleton(generated_walk):
     metres = spiral_from_walk(generated_walk, seed=2)
-    centimetres = spiral_from_walk(scaled(generated_walk, 100.0), seed=2)
+    centimetres = spiral_from_walk(rescaled(generated_walk, 100.0), seed=2)
     np.testing.assert_allclose(centimetres.motion[:, :3], 100 * metres.motion[:, :3], rtol=1e-9, atol=1e-7)
     np.testing.assert_allclose(centimetres.motion[:, 3:6], metres.motion[:, 3:6], atol=1e-7)
 

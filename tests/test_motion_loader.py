@@ -7,7 +7,7 @@ import pytest
 from conftest import random_motion, tpose_bvh
 
 from voxpose import canon
-from voxpose.bvh import Bvh, BvhJoint, joint_columns, write_bvh
+from voxpose.bvh import Bvh, joint_columns, rescaled, write_bvh
 from voxpose.errors import VoxposeError
 from voxpose.joint_map import resolve_joint_map, skeleton_points
 from voxpose.motion_loader import (
@@ -21,22 +21,6 @@ from voxpose.motion_loader import (
 
 # the hand-made skeleton: leg 0.42 + 0.41, hips 0.08 below the root, root -> neck 0.50, neck -> head top 0.25
 TPOSE_HEIGHT = (0.83 + 0.08 + 0.50 + 0.25) / 0.961
-
-
-def scaled(bvh: Bvh, factor: float) -> Bvh:
-    motion = bvh.motion.copy()
-    motion[:, :3] *= factor
-    joints = [
-        BvhJoint(
-            j.name,
-            j.parent,
-            j.offset * factor,
-            j.channels,
-            None if j.end_site is None else j.end_site * factor,
-        )
-        for j in bvh.joints
-    ]
-    return Bvh(joints, bvh.frame_time, motion)
 
 
 def test_resample_integer_ratio_takes_every_nth_frame():
@@ -80,7 +64,7 @@ def test_standing_height_by_hand():
     [(1.0, 1.0), (100.0, 0.01), (1000.0, 0.001), (1 / 0.0254, 0.0254), (0.45 / 0.0254, 0.0254 / 0.45)],
 )
 def test_unit_inferred_from_standing_height(tmp_path, factor, unit):
-    write_bvh(scaled(tpose_bvh(n_frames=4), factor), tmp_path / "walk_x.bvh", precision=17)
+    write_bvh(rescaled(tpose_bvh(n_frames=4), factor), tmp_path / "walk_x.bvh", precision=17)
     m = load_motion(tmp_path / "walk_x.bvh")
     assert m.source["unit_scale"] == pytest.approx(unit, rel=1e-12) and m.source["unit_from"] == "inferred"
     assert m.height == pytest.approx(TPOSE_HEIGHT, rel=1e-9)
@@ -89,7 +73,7 @@ def test_unit_inferred_from_standing_height(tmp_path, factor, unit):
 
 def test_unit_fallback_and_given(tmp_path, caplog):
     assert infer_unit(TPOSE_HEIGHT * 0.5) == (pytest.approx(1.75 / (TPOSE_HEIGHT * 0.5)), "fallback")
-    write_bvh(scaled(tpose_bvh(n_frames=2), 0.5), tmp_path / "small_x.bvh", precision=17)
+    write_bvh(rescaled(tpose_bvh(n_frames=2), 0.5), tmp_path / "small_x.bvh", precision=17)
     with caplog.at_level(logging.INFO, logger="voxpose.motion_loader"):
         m = load_motion(tmp_path / "small_x.bvh")
     assert m.height == pytest.approx(1.75) and m.source["unit_from"] == "fallback"
@@ -99,7 +83,7 @@ def test_unit_fallback_and_given(tmp_path, caplog):
 
 
 def test_inferred_unit_is_logged(tmp_path, caplog):
-    write_bvh(scaled(tpose_bvh(n_frames=2), 100.0), tmp_path / "walk_cm.bvh", precision=17)
+    write_bvh(rescaled(tpose_bvh(n_frames=2), 100.0), tmp_path / "walk_cm.bvh", precision=17)
     with caplog.at_level(logging.INFO, logger="voxpose.motion_loader"):
         load_motion(tmp_path / "walk_cm.bvh")
     expected = f"walk_cm: unit 0.01 m inferred from a standing height of {100 * TPOSE_HEIGHT:.1f} units -> 1.73 m"
@@ -192,7 +176,7 @@ def test_only_reference_frames_is_an_error(tmp_path):
 
 
 def test_position_channels_are_metres_after_scaling(tmp_path):
-    b = scaled(tpose_bvh(n_frames=2), 100.0)
+    b = rescaled(tpose_bvh(n_frames=2), 100.0)
     pos, _ = joint_columns(b, 0)
     assert pos == [0, 1, 2]
     write_bvh(b, tmp_path / "walk_cm.bvh")
