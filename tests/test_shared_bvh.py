@@ -1,6 +1,7 @@
 """The 42 shared real BVH files (CMU cgspeed and Bandai Namco): every one loads onto the canonical body.
 
-Skipped when ../shared/data/bvh (beside the repository) is absent. Measured on the shared files (reported in the issue note):
+Skipped when ../shared/data/bvh (beside the repository) is absent. Measured on the shared files (reported
+in the issue note):
 standing heights 1.45-1.54 m (CMU) and 1.56-1.58 m (Bandai); forward kinematics of y' with the median
 offsets reproduces the joints relative to the root within 1.5-12 mm on average per file, at worst 59 mm
 (a jump), the difference being the spine and clavicle motion that the 14-joint body does not have.
