@@ -8,6 +8,7 @@ import yaml
 
 from voxpose import workflow_config as wc
 from voxpose.errors import VoxposeError
+from voxpose.motion_data import kind_of
 
 ROOT = Path(__file__).resolve().parents[1]
 SCHEMA = ROOT / "config" / "schema.yaml"
@@ -64,8 +65,8 @@ def test_generated_names_and_kinds():
         "walk_gen_01": ("walk", 1, 120),
         "jump_gen_00": ("jump", 0, 50),
     }
-    assert wc.kind_of("irregularwalk_cmu_03_01") == "irregularwalk"
-    assert wc.kind_of("spiral_walk_cmu_08_01") == "spiral"
+    assert kind_of("irregularwalk_cmu_03_01") == "irregularwalk"
+    assert kind_of("spiral_walk_cmu_08_01") == "spiral"
 
 
 def test_experiment_resolution():

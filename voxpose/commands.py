@@ -216,17 +216,12 @@ def _describe(args):
     cfg = _params(args.params)
     seq, meta, _ = read_voxels(args.voxels)
     table = ShapeContextTable(seq.h_sub / seq.l_res, **cfg)
-    descriptors, basis_ijk = [], []
-    for f in range(seq.n_frames):
-        ijk, surface, basis = seq.frame(f)
-        if seq.empty[f]:
-            descriptors.append(np.zeros((0, table.n_bins)))
-            basis_ijk.append(np.zeros((0, 3), dtype=np.int32))
-            continue
-        descriptors.append(table.describe(ijk[surface], ijk[basis]))
-        basis_ijk.append(ijk[basis])
-        if (f + 1) % 100 == 0:
-            log.info("describe %s: frame %d/%d", meta.get("motion", args.voxels), f + 1, seq.n_frames)
+    surface_basis = [(ijk[surface], ijk[basis]) for ijk, surface, basis in map(seq.frame, range(seq.n_frames))]
+    carved = np.flatnonzero(~seq.empty)  # frames with an empty hull stay gaps: no descriptors
+    descriptors = [np.zeros((0, table.n_bins)) for _ in surface_basis]
+    for f, desc in zip(carved, table.describe_frames(surface_basis[f] for f in carved), strict=True):
+        descriptors[f] = desc
+    basis_ijk = [basis for _, basis in surface_basis]
     out_meta = {
         "params": cfg,
         "motion": meta.get("motion"),

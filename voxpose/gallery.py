@@ -9,6 +9,7 @@ import numpy as np
 
 from . import canon
 from .figures import plt
+from .motion_data import kind_of
 from .pose_fk import forward_kinematics
 
 BONES = [(j, p) for j, p in enumerate(canon.PARENTS) if p >= 0]
@@ -18,7 +19,7 @@ def pick_frames(predictions: dict, per_kind: int) -> list:
     """(motion, frame) pairs: ``per_kind`` valid frames per motion type, evenly spread over its motions."""
     by_kind = {}
     for name in sorted(predictions):
-        kind = name.split("_", 1)[0]
+        kind = kind_of(name)
         frames = np.flatnonzero(predictions[name]["valid"])
         by_kind.setdefault(kind, []).extend((name, int(f)) for f in frames)
     picks = []

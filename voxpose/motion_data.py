@@ -5,6 +5,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 
+def kind_of(motion: str) -> str:
+    """A motion's type: its name's prefix before the first ``_`` (walk, jog, spiral, ...)."""
+    return motion.split("_", 1)[0]
+
+
 @dataclass
 class MotionData:
     """A motion mapped onto the 14 canonical joints.

@@ -48,7 +48,7 @@ from .canonical_pose import canonical_pose
 from .errors import VoxposeError
 from .joint_map import JointMap, resolve_joint_map, skeleton_points
 from .kinematics import forward_kinematics
-from .motion_data import MotionData
+from .motion_data import MotionData, kind_of
 
 log = logging.getLogger(__name__)
 
@@ -168,7 +168,7 @@ def load_motion(path, *, fps=30.0, unit_scale=None, joint_map=None, drop_referen
     pose = canonical_pose(joints, ends)
     return MotionData(
         name=path.stem,
-        kind=path.stem.split("_", 1)[0],
+        kind=kind_of(path.stem),
         fps=float(fps),
         positions=joints,
         rotations=pose.rotations,

@@ -15,8 +15,6 @@ import yaml
 
 from .errors import VoxposeError
 
-MOTION_KINDS_DOC = "the file-name prefix before the first '_'"
-
 
 def validate_config(config: dict, schema_path) -> None:
     """Validate ``config`` against the JSON schema; raise a one-line ``VoxposeError`` naming the key."""
@@ -27,11 +25,6 @@ def validate_config(config: dict, schema_path) -> None:
         err = errors[0]
         key = ".".join(str(p) for p in err.absolute_path) or "(top level)"
         raise VoxposeError(f"config key {key}: {err.message}")
-
-
-def kind_of(motion: str) -> str:
-    """A motion's type: its name's prefix before the first ``_`` (walk, jog, spiral, ...)."""
-    return motion.split("_", 1)[0]
 
 
 def generated_motions(spec: dict) -> dict:
