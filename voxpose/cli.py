@@ -26,10 +26,17 @@ def _setup_logging(log_file) -> None:
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s: %(message)s", handlers=handlers, force=True)
 
 
-def _commands():
-    from . import commands
+# Modules that define subcommands, each with a ``COMMANDS`` dict {name: (help, add_arguments, run)}.
+COMMAND_MODULES = ("commands",)
 
-    return commands.COMMANDS
+
+def _commands():
+    import importlib
+
+    merged = {}
+    for name in COMMAND_MODULES:
+        merged.update(importlib.import_module(f".{name}", __package__).COMMANDS)
+    return merged
 
 
 def build_parser() -> argparse.ArgumentParser:
