@@ -202,9 +202,8 @@ def test_vertical_root_range(motions):
 
 def test_heading_rates(motions):
     rate = {kind: [heading_rate(fk) for _, fk in motions[kind]] for kind in KINDS}
-    # walk and jog turn steadily at 8-20 degrees per second, the spiral faster (its radius shrinks)
-    assert 6.0 < min(rate["walk"] + rate["jog"]) and max(rate["walk"] + rate["jog"]) < 22.0
-    assert min(rate["spiral"]) > max(rate["walk"])
+    # walk and jog turn steadily at 15-30 degrees per second
+    assert 13.0 < min(rate["walk"] + rate["jog"]) and max(rate["walk"] + rate["jog"]) < 32.0
 
     # the drunk heading wanders: it strays far more from a steady turn (a straight line in time) than the walk's
     def wander(fk):
@@ -275,7 +274,8 @@ def test_planted_toes_do_not_slide(motions, kind):
         toes = foot_points(fk)[:, :, 1:]  # toe joints and tips, (F, 2, 2, 3)
         down = (toes[1:, ..., 1] < 0.002) & (toes[:-1, ..., 1] < 0.002)
         slide = np.linalg.norm(np.diff(toes[..., [0, 2]], axis=0), axis=-1)[down]
-        assert slide.size > 0 and slide.max() < 0.012
+        # under 14 mm per frame: the turn (up to 30 deg/s) pivots a planted foot a little about its contact
+        assert slide.size > 0 and slide.max() < 0.014
 
 
 @pytest.mark.parametrize("kind", KINDS)
@@ -430,3 +430,28 @@ def test_toe_rocker_lifts_the_heel_about_the_ball_just_enough():
     # reachable case untouched
     np.testing.assert_array_equal(new_ankle[1], ankle[1])
     np.testing.assert_array_equal(new_foot[1], foot[1])
+
+
+def test_mid_heading_is_the_heading_at_the_middle_frame():
+    for kind in ("walk", "jump", "spiral"):
+        for target in (-150.0, 40.0):
+            fk = forward_kinematics(generate_motion(kind, seed=2, n_frames=120, mid_heading=target))
+            forward = fk[1][60, 0, :, 2]  # the root's forward axis at the middle frame
+            got = np.degrees(np.arctan2(forward[0], forward[2]))
+            assert abs((got - target + 180) % 360 - 180) < 12.0  # pelvic yaw swings a few degrees about it
+
+
+def test_default_training_sequences_cover_every_heading(tmp_path):
+    """Sequences 0 and 1 of walk, drunk, jog and jump (the default Table 1 training set) leave no 10-degree
+    heading bin empty, for several master seeds (Section 4: world-aligned descriptors)."""
+    from voxpose.motion_generator import default_motion
+
+    for seed in (0, 1, 2):
+        headings = []
+        for kind in ("walk", "drunk", "jog", "jump"):
+            for index in (0, 1):
+                path = tmp_path / f"{kind}_gen_{index:02d}.bvh"
+                write_bvh(default_motion(kind, index, n_frames=175, seed=seed), path)
+                headings.append(load_motion(path).angles[:, 0])
+        counts = np.histogram(np.mod(np.concatenate(headings), 360), bins=36, range=(0, 360))[0]
+        assert counts.min() > 0, (seed, counts)

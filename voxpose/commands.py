@@ -40,10 +40,9 @@ def _generate_args(p):
 
 def _generate(args):
     from .bvh import write_bvh
-    from .motion_generator import generate_motion, sequence_seed
+    from .motion_generator import default_motion
 
-    seed = sequence_seed(args.seed, args.kind, args.index)
-    write_bvh(generate_motion(args.kind, seed=seed, n_frames=args.frames), args.output)
+    write_bvh(default_motion(args.kind, args.index, n_frames=args.frames, seed=args.seed), args.output)
     log.info("generated %s %d (%d frames, seed %d) -> %s", args.kind, args.index, args.frames, args.seed, args.output)
 
 

@@ -57,12 +57,13 @@ out over 0.1 s after toe-off); a swing foot is lifted just enough to clear the g
 the stretched leg cannot reach rolls heel-up about its ball (``_toe_rocker``). Foot orientations are
 kept, so contact heights do not change.
 
-The types. ``walk``: a steady gentle turn (8-20 degrees per second, left or right: a circle of 4-10 m
-radius). ``jog``: running curves (more knee and elbow flexion, flight phases), faster cadence, more
+The types. ``walk``: a steady turn (15-30 degrees per second, left or right: a circle of 2.5-5 m
+radius, a turning walk). ``jog``: running curves (more knee and elbow flexion, flight phases), faster cadence, more
 forward lean, turning like ``walk``. Why every type turns: the 3D shape contexts are aligned with the world
 (Section 4), so the regressor can only recognise a body heading that its training frames cover; the
 paper's training set includes turning walks (Section 6), and a few straight sequences would cover a few
-headings only. ``spiral``: walking whose heading follows the tangent of a
+headings only; the default set also centres each sequence's arc on its own slot of the circle
+(``default_heading``). ``spiral``: walking whose heading follows the tangent of a
 spiral of shrinking radius (``spiral_heading``: the radius of curvature falls linearly with the
 distance walked, from r_start (3-4.5 m) to r_end (1-1.6 m) over the sequence), turning left or right,
 the trunk leaning into the turn by atan(v^2 / (g r)). ``drunk``: walking with a wandering heading
@@ -74,7 +75,7 @@ degrees, the same way for the whole sequence), landing and recovery; both feet s
 ground between flights.
 
 Per-sequence variation comes from the seed: height (1.5-2.0 m), cadence, stride scale (hence speed and
-stride length), arm swing amplitude, initial heading and position (within 1 m of the origin), and each
+stride length), arm swing amplitude, heading (unless given) and start position (within 1 m of the origin), and each
 type's own parameters. Everything is vectorised over frames; 1.5 s are simulated before and after the
 requested frames so that flights, smoothing and noise have context at both ends.
 """
@@ -405,8 +406,8 @@ def _gait_plan(kind: str, rng: np.random.Generator, t: np.ndarray, turn_rate: fl
     else:
         rate, stride_t, sway_mod = np.full(n, cadence), np.full(n, stride), np.ones(n)
         stagger = lean_roll = lean_pitch = head_roll = arm_noise = zeros
-        # steady gentle turn (see the module docstring); the spiral replaces it by its own heading
-        drawn = rng.choice([-1.0, 1.0]) * u(8.0, 20.0)
+        # steady turn (see the module docstring); the spiral replaces it by its own heading
+        drawn = rng.choice([-1.0, 1.0]) * u(15.0, 30.0)
         turn = zeros if kind == "spiral" else (drawn if turn_rate is None else turn_rate) * (t - t[0])
     phase = rng.uniform() + np.concatenate([[0.0], np.cumsum((rate[1:] + rate[:-1]) / 2 * dt)])
     cos = np.cos
@@ -731,7 +732,14 @@ def _draw_height(rng: np.random.Generator, height) -> float:
 
 
 def generate_motion(
-    kind: str, *, seed, n_frames: int, fps: float = 30.0, height: float | None = None, turn_rate: float | None = None
+    kind: str,
+    *,
+    seed,
+    n_frames: int,
+    fps: float = 30.0,
+    height: float | None = None,
+    turn_rate: float | None = None,
+    mid_heading: float | None = None,
 ) -> Bvh:
     """One synthetic motion of ``kind`` (``KINDS``) as a ``Bvh`` in metres (see the module docstring).
 
@@ -742,7 +750,10 @@ def generate_motion(
     n_frames : number of frames (>= 2); ``fps`` the frame rate.
     height : the subject's standing height in metres; drawn from 1.5-2.0 m when None.
     turn_rate : steady turn of ``walk`` and ``jog`` in degrees per second (positive: towards +X); drawn
-        (8-20, either way) when None; 0 gives a straight walk.
+        (15-30, either way) when None; 0 gives a straight walk.
+    mid_heading : the body heading in degrees (about +Y, 0 facing +Z) at the middle frame, so that the turn
+        sweeps an arc centred on it; drawn uniformly when None. The default set passes
+        ``default_heading(kind, index)``.
     """
     if kind not in KINDS:
         raise VoxposeError(f"generate_motion: unknown motion kind {kind!r} (known: {', '.join(KINDS)})")
@@ -777,6 +788,8 @@ def generate_motion(
         lean = np.rad2deg(np.arctan(speed**2 / (GRAVITY * spiral_radius(s, **geometry))))
         for name in ("Spine", "Chest"):  # the trunk leans into the turn (the top towards the centre)
             local[:, _J[name]] = _rot("Z", -direction * lean / 2) @ local[:, _J[name]]
+    if mid_heading is not None:
+        heading = heading + (float(mid_heading) - heading[pad + n_frames // 2])
     psi = np.deg2rad(heading)
     mid = (psi[1:] + psi[:-1]) / 2
     world = np.stack(_yaw_apply(mid, support.steps[:, 0], support.steps[:, 1]), axis=1)
@@ -792,11 +805,34 @@ def generate_motion(
     return _bvh_from_rotations(joints, root, local, dt)
 
 
+def default_heading(kind: str, index: int) -> float:
+    """Mid-sequence heading (degrees) of sequence ``index`` of ``kind`` in the default set.
+
+    World-aligned descriptors (Section 4) let the regressor recognise only headings its training frames
+    cover, and a few sequences with random headings leave gaps (with seed 1, 12 of 36 ten-degree bins had
+    no Table 1 training frame). Sequences 0 and 1 of the five kinds take ten slots 36 degrees apart
+    (kind order, then index), each turning through an arc centred on its slot, so the training sequences
+    of any experiment that takes two per kind tile the circle; later sequences sit half-way between.
+    """
+    if kind not in KINDS:
+        raise VoxposeError(f"default motions: unknown kind {kind!r} (known: {', '.join(KINDS)})")
+    slots = 2 * len(KINDS)
+    n = KINDS.index(kind) + len(KINDS) * (int(index) % 2)
+    return float(np.mod(360.0 * (n + 0.5 * (int(index) // 2)) / slots + 180.0, 360.0) - 180.0)
+
+
 def sequence_seed(seed: int, kind: str, index: int) -> np.random.SeedSequence:
     """The seed of sequence ``index`` of ``kind`` in the default set: it depends only on (seed, kind, index)."""
     if kind not in KINDS:
         raise VoxposeError(f"default motions: unknown kind {kind!r} (known: {', '.join(KINDS)})")
     return np.random.SeedSequence(int(seed), spawn_key=(KINDS.index(kind), int(index)))
+
+
+def default_motion(kind: str, index: int, *, n_frames: int, seed: int, fps: float = 30.0) -> Bvh:
+    """Sequence ``index`` of ``kind`` in the default set: its own seed (``sequence_seed``) and heading
+    (``default_heading``), so that it depends only on (seed, kind, index, n_frames, fps)."""
+    seq_seed, heading = sequence_seed(seed, kind, index), default_heading(kind, index)
+    return generate_motion(kind, seed=seq_seed, n_frames=n_frames, fps=fps, mid_heading=heading)
 
 
 def write_default_set(out_dir, spec: dict, seed: int) -> list[Path]:
@@ -828,7 +864,7 @@ def write_default_set(out_dir, spec: dict, seed: int) -> list[Path]:
     paths = []
     for kind, i, frames, fps in jobs:
         path = out_dir / f"{kind}_gen_{i:02d}.bvh"
-        write_bvh(generate_motion(kind, seed=sequence_seed(seed, kind, i), n_frames=frames, fps=fps), path)
+        write_bvh(default_motion(kind, i, n_frames=frames, seed=seed, fps=fps), path)
         log.info("wrote %s (%d frames)", path, frames)
         paths.append(path)
     return paths
