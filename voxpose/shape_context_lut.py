@@ -35,9 +35,12 @@ FFTs per frame, far slower, and was not pursued. Small dense products go through
 rather than BLAS: multithreaded OpenBLAS took ~20 ms per call to wake its threads on the loaded machine.
 """
 
+import contextlib
 import functools
 import logging
 import math
+import threading
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -70,7 +73,7 @@ class OffsetTable:
 
     radius: int  # every support offset has |component| <= radius
     offsets: np.ndarray  # (R, 3) int64 support offsets, one per row, rows sorted by group
-    group: np.ndarray  # (R,) int64 group of each row
+    group: np.ndarray  # (R,) int32 group of each row
     counting: bool
     group_votes: sp.csr_array | None  # counting: (n_bins, n_groups) votes of each group
     weights: np.ndarray | None  # segments: (R, width) float64 slot weights of each row
@@ -144,7 +147,7 @@ def offset_table(geometry: BinGeometry, soft: bool) -> OffsetTable:
         first, group = _distinct_rows(slot_bins)
         group_bins, group_votes = slot_bins[first], None
     order = np.argsort(group, kind="stable")
-    group = group[order]
+    group = group[order].astype(np.int32)  # int32: half the traffic of the per-pair group lookup
     log.info(
         "3DSC lookup table: R_max %.4g voxels, %d offsets, %d votes, %d groups (%s)",
         geometry.r_max,
@@ -203,47 +206,32 @@ class ShapeContextTable:
         self.soft = bool(soft)
         self.normalise = bool(normalise)
         self.table = offset_table(self.geometry, self.soft)
-        self._code_tables = {}
+        self._codes = None  # the current _CodeTable, grown to the largest extent seen
+        self._codes_lock = threading.Lock()
 
     @property
     def n_bins(self) -> int:
         return self.geometry.n_bins
 
-    def _code_table(self, extent: tuple[int, int, int]):
-        """Lookup from code differences to table rows (or groups) for voxel sets within ``extent``.
+    def _code_table(self, extent: np.ndarray) -> "_CodeTable":
+        """The code table for a voxel set of ``extent`` (max - min per axis); grown when one is too small.
 
-        A voxel ``v`` (shifted to non-negative coordinates) has code ``v @ strides``, mixed radix with the
-        axis of largest extent most significant; the difference of two codes decodes their offset
-        uniquely because every offset component is within ``extent``. Along the leading axis only offsets
-        up to the table radius are tabulated (plus one "outside" entry at each end), so pair codes are
-        clipped into the table's range instead of being range-checked per axis. "Outside" is the number
-        of rows (groups when counting), one past the last. Returns ``(strides, shift, lookup)``: a pair's
-        entry is ``lookup[clip(code(s) + shift - code(b))]``.
+        One table serves every frame whose extent it covers, so a motion needs one or a few tables (a
+        table per extent would be rebuilt for most frames of a moving figure). Thread safe.
         """
-        cached = self._code_tables.get(extent)
-        if cached is not None:
-            return cached
-        t = self.table
-        lead, mid, low = np.argsort(extent, kind="stable")[::-1]
-        reach = np.array(extent)
-        reach[lead] = min(reach[lead], t.radius)
-        strides = np.zeros(3, dtype=np.int64)
-        strides[low], strides[mid] = 1, 2 * reach[low] + 1
-        strides[lead] = (2 * reach[mid] + 1) * strides[mid]
-        half = int(reach @ strides)
-        if 2 * half + 3 > _MAX_CODE_TABLE:
-            raise VoxposeError(
-                f"shape context: voxel set spans {' x '.join(str(e + 1) for e in extent)} voxels, "
-                "too large for the lookup table"
-            )
-        keep = (np.abs(t.offsets) <= reach).all(axis=1)
-        values = t.group if t.counting else np.arange(len(t.offsets))
-        lookup = np.full(2 * half + 3, values[-1] + 1, dtype=np.int32)
-        lookup[half + 1 + t.offsets[keep] @ strides] = values[keep]
-        if len(self._code_tables) >= 8:
-            self._code_tables.pop(next(iter(self._code_tables)))
-        self._code_tables[extent] = strides, half + 1, lookup
-        return self._code_tables[extent]
+        codes = self._codes
+        if codes is not None and codes.covers(extent):
+            return codes
+        with self._codes_lock:
+            codes = self._codes
+            if codes is None or not codes.covers(extent):
+                grown = extent if codes is None else np.maximum(codes.seen, extent)
+                try:
+                    codes = _CodeTable.build(self.table, grown)
+                except VoxposeError:
+                    codes = _CodeTable.build(self.table, extent)  # this frame alone may still fit
+                self._codes = codes
+        return codes
 
     def describe(self, surface_ijk, basis_ijk) -> np.ndarray:
         """Descriptors ``(M, n_bins)`` float64 at the basis voxels, from the surface voxels.
@@ -259,10 +247,9 @@ class ShapeContextTable:
         basis = _as_voxels("basis_ijk", basis_ijk)
         low = np.minimum(surface.min(axis=0), basis.min(axis=0))
         high = np.maximum(surface.max(axis=0), basis.max(axis=0))
-        extent = tuple(int(-(-e // 8) * 8) for e in (high - low))  # rounded up: fewer code tables
-        strides, shift, lookup = self._code_table(extent)
-        surface_code = (surface - low) @ strides + shift
-        basis_code = (basis - low) @ strides
+        codes = self._code_table(high - low)
+        surface_code = (surface - low) @ codes.strides + codes.shift
+        basis_code = (basis - low) @ codes.strides
         if max(surface_code.max(), basis_code.max()) < 2**31:  # int32 halves the memory traffic
             surface_code, basis_code = surface_code.astype(np.int32), basis_code.astype(np.int32)
         t = self.table
@@ -270,9 +257,8 @@ class ShapeContextTable:
         out = np.empty((len(basis), n_out))
         step = max(1, _CHUNK_PAIRS // max(len(surface), n_out + 1))  # also bounds the per-chunk histograms
         for start in range(0, len(basis), step):
-            codes = surface_code[None, :] - basis_code[start : start + step, None]
-            np.clip(codes, 0, len(lookup) - 1, out=codes)
-            entries = lookup.take(codes)
+            pair_codes = surface_code[None, :] - basis_code[start : start + step, None]
+            entries = codes.lookup.take(pair_codes, mode="clip")  # beyond the table's ends: "outside"
             out[start : start + step] = self._count(entries) if t.counting else self._segments(entries)
         if not t.counting:
             out = out[:, : self.n_bins] + (t.extra @ out[:, self.n_bins :].T).T
@@ -282,39 +268,102 @@ class ShapeContextTable:
         """Descriptors of ``m`` basis voxels from the ``(m, N)`` groups of their pairs (counting)."""
         t = self.table
         m, n_keys = len(groups), t.n_groups + 1  # the last group is "outside the support"
-        groups += (np.arange(m, dtype=groups.dtype) * n_keys)[:, None]
-        counts = np.bincount(groups.ravel(), minlength=m * n_keys).reshape(m, n_keys)
+        keys = groups + (np.arange(m, dtype=np.intp) * n_keys)[:, None]
+        counts = np.bincount(keys.ravel(), minlength=m * n_keys).reshape(m, n_keys)
         return (t.group_votes @ counts[:, :-1].T.astype(np.float64)).T
 
     def _segments(self, rows: np.ndarray) -> np.ndarray:
         """Extended-bin descriptors of ``m`` basis voxels from the ``(m, N)`` table rows of their pairs."""
         t = self.table
-        m = len(rows)
+        m, n_rows = len(rows), len(t.group)
         n_ext = self.n_bins + t.extra.shape[1]
         rows.sort(axis=1)  # rows are sorted by group, so each basis voxel's pairs form runs of a group
-        inside = rows < len(t.group)
-        per_basis = inside.sum(axis=1)
+        inside = rows < n_rows  # "outside" sorts last
+        ends = np.cumsum(np.count_nonzero(inside, axis=1))  # end of each basis voxel's pairs
         rows = rows[inside]
+        if len(rows) == 0:
+            return np.zeros((m, n_ext))
+        rows = rows.astype(np.int32)  # scipy takes int32 indices as they are; others cost a slow conversion
         group = t.group.take(rows)
-        run_start = np.ones(len(rows), dtype=bool)
+        run_start = np.empty(len(rows), dtype=bool)
+        run_start[0] = True
         np.not_equal(group[1:], group[:-1], out=run_start[1:])
-        run_start[(np.cumsum(per_basis) - per_basis)[per_basis > 0]] = True
-        starts = np.flatnonzero(run_start)
-        runs = sp.csr_array((np.ones(len(rows)), rows, np.append(starts, len(rows))), shape=(len(starts), len(t.group)))
-        sums = runs @ t.weights
-        run_basis = np.repeat(np.arange(m), per_basis).take(starts)
-        keys = (run_basis * (n_ext + 1))[:, None] + t.group_bins.take(group.take(starts), axis=0)
-        totals = np.bincount(keys.ravel(), sums.ravel(), minlength=m * (n_ext + 1))
+        run_start[ends[ends < len(rows)]] = True  # a basis voxel's first pair starts a run
+        starts = np.flatnonzero(run_start).astype(np.int32)
+        indptr = np.append(starts, np.int32(len(rows)))
+        runs = sp.csr_array((np.ones(len(rows)), rows, indptr), shape=(len(starts), n_rows))
+        sums = runs @ t.weights  # (runs, width): each run's summed slot weights
+        width = sums.shape[1]
+        runs_per_basis = np.diff(np.searchsorted(starts, ends), prepend=0)
+        keys = t.group_bins.take(group.take(starts), axis=0).ravel()
+        keys += np.repeat(np.arange(0, m * (n_ext + 1), n_ext + 1), runs_per_basis * width)
+        totals = np.bincount(keys, sums.ravel(), minlength=m * (n_ext + 1))
         return totals.reshape(m, n_ext + 1)[:, :n_ext]
 
-    def describe_frames(self, frames) -> list[np.ndarray]:
-        """Descriptors of many frames: ``frames`` yields ``(surface_ijk, basis_ijk)``; one array each."""
+    def describe_frames(self, frames, threads: int = 1) -> list[np.ndarray]:
+        """Descriptors of many frames: ``frames`` yields ``(surface_ijk, basis_ijk)``; one array each.
+
+        With ``threads > 1`` frames are described concurrently by a thread pool; numpy's sorting, indexing
+        and arithmetic and scipy's sparse products release the GIL, so the threads share the work.
+        """
+        threads = max(1, int(threads))
         out = []
-        for i, (surface, basis) in enumerate(frames):
-            out.append(self.describe(surface, basis))
-            if (i + 1) % 100 == 0:
-                log.info("3DSC: %d frames described", i + 1)
+        with ThreadPoolExecutor(threads) if threads > 1 else contextlib.nullcontext() as pool:
+            described = pool.map(self._describe_pair, frames) if pool else map(self._describe_pair, frames)
+            for desc in described:
+                out.append(desc)
+                if len(out) % 100 == 0:
+                    log.info("3DSC: %d frames described", len(out))
         return out
+
+    def _describe_pair(self, frame) -> np.ndarray:
+        surface, basis = frame
+        return self.describe(surface, basis)
+
+
+@dataclass(frozen=True, eq=False)
+class _CodeTable:
+    """Lookup from voxel-pair code differences to offset-table rows (or groups when counting).
+
+    A voxel ``v`` (shifted to non-negative coordinates) has code ``v @ strides``, mixed radix with the
+    ``lead`` axis most significant; the difference of two codes decodes their offset uniquely when
+    every offset component is within ``reach``. Along the lead axis only offsets up to the table radius
+    are tabulated (plus one "outside" entry at each end), so pair codes are clipped into the table's
+    range instead of being range-checked per axis, and a voxel set of any extent along the lead axis is
+    covered. "Outside" is the number of rows (groups when counting), one past the last. A pair's entry
+    is ``lookup[clip(code(s) + shift - code(b))]``; entries are uint16 when they fit (half the traffic).
+    """
+
+    seen: np.ndarray  # (3,) extent the table was built for (rounded up)
+    lead: int
+    strides: np.ndarray  # (3,) int64
+    shift: int
+    lookup: np.ndarray  # (2 * shift + 1,) uint16 or int32
+
+    def covers(self, extent) -> bool:
+        return bool(all(extent[a] <= self.seen[a] for a in range(3) if a != self.lead))
+
+    @classmethod
+    def build(cls, table: OffsetTable, extent) -> "_CodeTable":
+        seen = -(-np.asarray(extent, dtype=np.int64) // 8) * 8  # rounded up: fewer rebuilds
+        lead, mid, low = np.argsort(seen, kind="stable")[::-1]
+        reach = seen.copy()
+        reach[lead] = min(reach[lead], table.radius)
+        strides = np.zeros(3, dtype=np.int64)
+        strides[low], strides[mid] = 1, 2 * reach[low] + 1
+        strides[lead] = (2 * reach[mid] + 1) * strides[mid]
+        half = int(reach @ strides)
+        if 2 * half + 3 > _MAX_CODE_TABLE:
+            raise VoxposeError(
+                f"shape context: voxel set spans {' x '.join(str(int(e) + 1) for e in extent)} voxels, "
+                "too large for the lookup table"
+            )
+        keep = (np.abs(table.offsets) <= reach).all(axis=1)
+        values = table.group if table.counting else np.arange(len(table.offsets))
+        outside = int(values[-1]) + 1
+        lookup = np.full(2 * half + 3, outside, dtype=np.uint16 if outside <= np.iinfo(np.uint16).max else np.int32)
+        lookup[half + 1 + table.offsets[keep] @ strides] = values[keep]
+        return cls(seen=seen, lead=int(lead), strides=strides, shift=half + 1, lookup=lookup)
 
 
 def shape_contexts_grid(
