@@ -6,8 +6,9 @@ vote, so both paths agree on every boundary) and kept in a table, one row per of
 described by "voxel - offset vector - bin" indexing, in two steps:
 
 1. pairs: every (basis, surface) pair finds its offset's table row by one integer lookup. Voxels are
-   packed into integer codes whose differences decode the offset uniquely, and a per-frame code table
-   (cached per frame extent) maps a code difference to a table row or to "outside the support";
+   packed into integer codes whose differences decode the offset uniquely, and a code table maps a
+   code difference to a table row or to "outside the support". One code table serves every frame whose
+   extent it covers and grows when a frame does not fit, so a motion needs one or a few;
 2. accumulation: descriptor ``b`` is the sum of the table rows of its pairs.
 
 Step 2 groups table rows by the set of bins they vote for, so that each group is one fixed map to bins:
@@ -174,9 +175,13 @@ def _as_voxels(name: str, values) -> np.ndarray:
         raise VoxposeError(f"shape context: {name} must have shape (N, 3), got {arr.shape}")
     if len(arr) == 0:
         raise VoxposeError(f"shape context: {name} is empty")
+    if np.issubdtype(arr.dtype, np.floating):
+        bad = ~np.isfinite(arr).all(axis=1)
+        if bad.any():
+            raise VoxposeError(f"shape context: {name} row {int(np.argmax(bad))} is not finite: {arr[bad][0]}")
     if not np.issubdtype(arr.dtype, np.integer):
         raise VoxposeError(f"shape context: {name} must hold integer voxel indices, got dtype {arr.dtype}")
-    return arr.astype(np.int64)
+    return arr.astype(np.int64, copy=False)
 
 
 class ShapeContextTable:
@@ -184,8 +189,8 @@ class ShapeContextTable:
 
     Parameters are those of :func:`voxpose.shape_context.shape_contexts`, with the subject height in
     voxels ``h_sub_voxels = h_sub / l_res`` (60 in the paper) in place of ``l_res`` and ``h_sub``: on the
-    grid only their ratio matters. The offset table is cached per parameter set (module-wide), the
-    per-frame code tables per frame extent (per instance).
+    grid only their ratio matters. The offset table is cached per parameter set (module-wide), the code
+    table per instance.
     """
 
     def __init__(
