@@ -21,15 +21,26 @@ Step 2 groups table rows by the set of bins they vote for, so that each group is
   row indices puts its pairs in runs of one group; one CSR x dense product sums the runs' per-offset
   weights (``width`` columns), and one ``np.bincount`` sends each run's sums to its group's bins.
 
-Measured alternatives (``benchmarks/bench_shape_context.py`` figures: ~1750 surface and 200 basis
-voxels, ~190,000 pairs in the support per frame; process CPU time per frame, minimum of 75 runs, on the
-2-core VM while other jobs kept its load average near 5):
+Measured (``benchmarks/bench_shape_context.py`` figures: ~1770 surface and 200 basis voxels, ~190,000
+pairs in the support per frame; process CPU time per frame, medians, on the 2-core VM while another
+job kept both cores busy, load average ~2.9):
 
-- pair lookup alone: 1.0 ms;
-- soft votes, sparse product ``A @ T`` of the (basis x offset) pair indicator with the table (scipy CSR x
-  CSR): 9 - 13 ms; ``np.bincount`` over the (basis, bin) keys of all partial votes, padded to 8 per
-  pair: 23 ms (gathering the padded votes dominates); segments: 7.5 - 9 ms, kept;
-- hard votes, counting: 2.9 ms.
+- soft votes, segments: 9.4 ms per frame, of which pair codes and lookup 1.3, row sort 0.8, dropping
+  pairs outside the support 0.7, runs 1.1, CSR x dense product 2.3 to 2.6, run keys and bincount 1.7;
+  hard votes, counting: 3.8 ms. The reference takes ~30 times longer on the same frames;
+- one code table per frame extent (the previous design) was rebuilt for most frames of moving figures,
+  ~2 ms per frame; the grown table is built once or twice per motion;
+- scipy converts CSR index arrays that are not int32 (uint16 rows, int64 run starts) slowly: 0.5 - 3 ms
+  per product, against 0.03 ms for int32 arrays, so they are passed as int32;
+- alternatives for soft votes: summing the runs by ``np.add.reduceat`` over gathered table rows, 11 -
+  13 ms (against 2.2 ms for the CSR product); keeping the pairs outside the support as a zero row
+  instead of dropping them, 12 ms per frame; the sparse product ``A @ T`` of the (basis x offset) pair
+  indicator with the table (scipy CSR x CSR, no sort needed), 9 ms for the product alone;
+  ``np.bincount`` over the (basis, bin) keys of all partial votes, padded to 8 per pair: 23 ms.
+
+``ShapeContextTable.describe_frames(frames, threads=2)`` describes frames on a thread pool: numpy's
+sorting, indexing and arithmetic and scipy's sparse products release the GIL. It only pays when the
+second core is free.
 
 A dense 3D convolution of the occupancy grid with each bin's kernel needs about ``n_bins`` grid-sized
 FFTs per frame, far slower, and was not pursued. Small dense products go through scipy's sparse kernels
