@@ -22,12 +22,13 @@ Step 2 groups table rows by the set of bins they vote for, so that each group is
   weights (``width`` columns), and one ``np.bincount`` sends each run's sums to its group's bins.
 
 Measured (``benchmarks/bench_shape_context.py`` figures: ~1770 surface and 200 basis voxels, ~190,000
-pairs in the support per frame; process CPU time per frame, medians, on the 2-core VM while another
-job kept both cores busy, load average ~2.9):
+pairs in the support per frame; process CPU time per frame, medians, on the 2-core VM while other jobs
+kept both cores busy, load average 3 - 6):
 
-- soft votes, segments: 9.4 ms per frame, of which pair codes and lookup 1.3, row sort 0.8, dropping
-  pairs outside the support 0.7, runs 1.1, CSR x dense product 2.3 to 2.6, run keys and bincount 1.7;
-  hard votes, counting: 3.8 ms. The reference takes ~30 times longer on the same frames;
+- soft votes, segments: 9.4 - 10.6 ms per frame (the previous version of this module: 15.5 ms in the
+  same runs), of which pair codes and lookup 1.3, row sort 0.8, dropping pairs outside the support 0.7,
+  runs 1.1, CSR x dense product 2.3 to 2.6, run keys and bincount 1.7; hard votes, counting: 3.8 - 4.5
+  ms (previously 8 - 9 ms). The reference takes 23 - 34 times longer on the same frames;
 - one code table per frame extent (the previous design) was rebuilt for most frames of moving figures,
   ~2 ms per frame; the grown table is built once or twice per motion;
 - scipy converts CSR index arrays that are not int32 (uint16 rows, int64 run starts) slowly: 0.5 - 3 ms
@@ -36,11 +37,13 @@ job kept both cores busy, load average ~2.9):
   13 ms (against 2.2 ms for the CSR product); keeping the pairs outside the support as a zero row
   instead of dropping them, 12 ms per frame; the sparse product ``A @ T`` of the (basis x offset) pair
   indicator with the table (scipy CSR x CSR, no sort needed), 9 ms for the product alone;
-  ``np.bincount`` over the (basis, bin) keys of all partial votes, padded to 8 per pair: 23 ms.
+  ``np.bincount`` over the (basis, bin) keys of all partial votes, padded to 8 per pair: 23 ms; only
+  pairing each basis voxel with the surface voxels within the table radius along the lead axis (a
+  window of ~88% of them on human figures): no gain.
 
-``ShapeContextTable.describe_frames(frames, threads=2)`` describes frames on a thread pool: numpy's
-sorting, indexing and arithmetic and scipy's sparse products release the GIL. It only pays when the
-second core is free.
+``ShapeContextTable.describe_frames(frames, threads=2)`` describes frames on a thread pool. The numpy
+and scipy calls above release the GIL (a Python thread kept running during each of them), so two
+threads can use two cores; with the VM's two cores busy with other jobs, no gain was measurable.
 
 A dense 3D convolution of the occupancy grid with each bin's kernel needs about ``n_bins`` grid-sized
 FFTs per frame, far slower, and was not pursued. Small dense products go through scipy's sparse kernels
@@ -319,8 +322,8 @@ class ShapeContextTable:
     def describe_frames(self, frames, threads: int = 1) -> list[np.ndarray]:
         """Descriptors of many frames: ``frames`` yields ``(surface_ijk, basis_ijk)``; one array each.
 
-        With ``threads > 1`` frames are described concurrently by a thread pool; numpy's sorting, indexing
-        and arithmetic and scipy's sparse products release the GIL, so the threads share the work.
+        With ``threads > 1`` frames are described concurrently by a thread pool (the heavy numpy and scipy
+        calls release the GIL), in order.
         """
         threads = max(1, int(threads))
         out = []
