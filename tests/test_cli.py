@@ -99,3 +99,30 @@ def test_voxelize_exports_png_silhouettes(motion_file, tmp_path):
     assert angles.shape == (12, canon.N_ANGLES) and meta["motion"] == "jog_gen_00"
     assert sorted(p.name for p in (tmp_path / "png").iterdir()) == ["cam0", "cam1", "cam2"]
     assert len(list((tmp_path / "png" / "cam0").glob("*.png"))) == 12
+
+
+def test_describe_with_two_threads_equals_one_thread_and_the_library(motion_file, tmp_path):
+    from voxpose.shape_context_lut import ShapeContextTable
+    from voxpose.store import read_descriptors
+
+    rig = circular_rig(n=3, width=96, image_height=96, focal_px=110.0, name="three")
+    save_rig(rig, tmp_path / "rig.json")
+    proc = voxpose("voxelize", motion_file, "--rig", tmp_path / "rig.json", "--params", '{"n_basis": 40}',
+                   "-o", tmp_path / "v.h5")  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    results = []
+    for threads in (1, 2):
+        out = tmp_path / f"d{threads}.h5"
+        proc = voxpose("describe", tmp_path / "v.h5", "--params", '{"n_r": 3}', "--threads", threads, "-o", out)
+        assert proc.returncode == 0, proc.stderr
+        results.append(read_descriptors(out)[0])
+    seq, _, _ = read_voxels(tmp_path / "v.h5")
+    table = ShapeContextTable(seq.h_sub / seq.l_res, n_r=3)
+    described = 0
+    for f, (one, two) in enumerate(zip(*results, strict=True)):
+        np.testing.assert_array_equal(one, two)
+        if not seq.empty[f]:
+            ijk, surface, basis = seq.frame(f)
+            np.testing.assert_allclose(one, table.describe(ijk[surface], ijk[basis]), rtol=1e-6)  # stored as float32
+            described += one.any()
+    assert described == seq.n_frames

@@ -119,17 +119,31 @@ def test_grid_translation_invariance_and_duplicates():
     assert np.abs(doubled - base).max() > 0.01
 
 
-def test_describe_frames_matches_single_frames_across_many_extents():
+@pytest.mark.parametrize("threads", [1, 2])
+def test_describe_frames_matches_single_frames_across_many_extents(threads):
     table = ShapeContextTable(60, soft=True)
     frames = []
-    for seed in range(11):  # more distinct extents than the code-table cache holds
+    for seed in [*range(11), 3, 0]:  # extents growing, then shrinking: the code table grows and is reused
         surface, basis = blob(seed, n_surface=120 + 30 * seed, n_basis=8, size=20 + 4 * seed)
         frames.append((surface, basis))
-    batch = table.describe_frames(iter(frames))
+    batch = table.describe_frames(iter(frames), threads=threads)
     assert len(batch) == len(frames)
     for (surface, basis), got in zip(frames, batch, strict=True):
         np.testing.assert_allclose(got, reference(surface, basis), atol=1e-9)
-    assert len(table._code_tables) <= 8
+    assert table._codes.covers(np.ptp(np.vstack(frames[10]), axis=0))
+
+
+def test_code_table_too_large_when_grown_falls_back_to_each_frame():
+    # long thin frames along each axis in turn: one table covering all would exceed the size limit
+    table = ShapeContextTable(60, soft=False)
+    surface, basis = blob(17, n_surface=150, n_basis=6)
+    for axis in range(3):
+        far = np.zeros((2, 3), dtype=int)
+        far[:, axis] = [1500, 1503]
+        frame_surface = np.vstack([surface, far])
+        got = table.describe(frame_surface, np.vstack([basis, far[:1]]))
+        np.testing.assert_allclose(got, reference(frame_surface, np.vstack([basis, far[:1]]), soft=False), atol=1e-9)
+        assert got[-1].sum() > 0  # the far pair (3 voxels apart) votes
 
 
 def test_normalise_and_class_agree_with_function():
@@ -159,7 +173,15 @@ def test_table_is_cached_per_parameter_set():
         (np.zeros((4, 3), int), np.zeros((0, 3), int), {}, "basis_ijk is empty"),
         (np.zeros((4, 2), int), np.zeros((2, 3), int), {}, "surface_ijk must have shape"),
         (np.zeros((4, 3)), np.zeros((2, 3), int), {}, "surface_ijk must hold integer voxel indices"),
+        ([[0, 0, 0], [1, np.nan, 2]], np.zeros((2, 3), int), {}, "surface_ijk row 1 is not finite"),
+        (np.zeros((4, 3), int), [[np.inf, 0, 0]], {}, "basis_ijk row 0 is not finite"),
         (np.zeros((4, 3), int), np.zeros((2, 3), int), {"h_sub_voxels": 0}, "h_sub / l_res must be positive"),
+        (np.zeros((4, 3), int), np.zeros((2, 3), int), {"h_sub_voxels": -60}, "h_sub / l_res must be positive"),
+        (np.zeros((4, 3), int), np.zeros((2, 3), int), {"r_min": 0.0}, "r_min must be positive"),
+        (np.zeros((4, 3), int), np.zeros((2, 3), int), {"r_min": -2.0}, "r_min must be positive"),
+        (np.zeros((4, 3), int), np.zeros((2, 3), int), {"r_max": 0.0}, "r_max must be positive"),
+        (np.zeros((4, 3), int), np.zeros((2, 3), int), {"r_max": -0.3}, "r_max must be positive"),
+        (np.zeros((4, 3), int), np.zeros((2, 3), int), {"r_max": float("nan")}, "r_max must be positive"),
         (np.zeros((4, 3), int), np.zeros((2, 3), int), {"n_a": 0}, "n_a must be an integer >= 1"),
         (np.zeros((4, 3), int), np.zeros((2, 3), int), {"r_min": 30}, "must be smaller than R_max"),
         ([[0, 0, 0], [4000, 4000, 4000]], [[0, 0, 0]], {}, "too large for the lookup table"),

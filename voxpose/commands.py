@@ -218,7 +218,8 @@ def _describe(args):
     surface_basis = [(ijk[surface], ijk[basis]) for ijk, surface, basis in map(seq.frame, range(seq.n_frames))]
     carved = np.flatnonzero(~seq.empty)  # frames with an empty hull stay gaps: no descriptors
     descriptors = [np.zeros((0, table.n_bins)) for _ in surface_basis]
-    for f, desc in zip(carved, table.describe_frames(surface_basis[f] for f in carved), strict=True):
+    described = table.describe_frames((surface_basis[f] for f in carved), threads=args.threads)
+    for f, desc in zip(carved, described, strict=True):
         descriptors[f] = desc
     basis_ijk = [basis for _, basis in surface_basis]
     out_meta = {

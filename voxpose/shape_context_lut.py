@@ -6,8 +6,9 @@ vote, so both paths agree on every boundary) and kept in a table, one row per of
 described by "voxel - offset vector - bin" indexing, in two steps:
 
 1. pairs: every (basis, surface) pair finds its offset's table row by one integer lookup. Voxels are
-   packed into integer codes whose differences decode the offset uniquely, and a per-frame code table
-   (cached per frame extent) maps a code difference to a table row or to "outside the support";
+   packed into integer codes whose differences decode the offset uniquely, and a code table maps a
+   code difference to a table row or to "outside the support". One code table serves every frame whose
+   extent it covers and grows when a frame does not fit, so a motion needs one or a few;
 2. accumulation: descriptor ``b`` is the sum of the table rows of its pairs.
 
 Step 2 groups table rows by the set of bins they vote for, so that each group is one fixed map to bins:
@@ -20,24 +21,41 @@ Step 2 groups table rows by the set of bins they vote for, so that each group is
   row indices puts its pairs in runs of one group; one CSR x dense product sums the runs' per-offset
   weights (``width`` columns), and one ``np.bincount`` sends each run's sums to its group's bins.
 
-Measured alternatives (``benchmarks/bench_shape_context.py`` figures: ~1750 surface and 200 basis
-voxels, ~190,000 pairs in the support per frame; process CPU time per frame, minimum of 75 runs, on the
-2-core VM while other jobs kept its load average near 5):
+Measured (``benchmarks/bench_shape_context.py`` figures: ~1770 surface and 200 basis voxels, ~190,000
+pairs in the support per frame; process CPU time per frame, medians, on the 2-core VM while other jobs
+kept both cores busy, load average 3 - 6):
 
-- pair lookup alone: 1.0 ms;
-- soft votes, sparse product ``A @ T`` of the (basis x offset) pair indicator with the table (scipy CSR x
-  CSR): 9 - 13 ms; ``np.bincount`` over the (basis, bin) keys of all partial votes, padded to 8 per
-  pair: 23 ms (gathering the padded votes dominates); segments: 7.5 - 9 ms, kept;
-- hard votes, counting: 2.9 ms.
+- soft votes, segments: 9.4 - 10.6 ms per frame (the previous version of this module: 15.5 ms in the
+  same runs), of which pair codes and lookup 1.3, row sort 0.8, dropping pairs outside the support 0.7,
+  runs 1.1, CSR x dense product 2.3 to 2.6, run keys and bincount 1.7; hard votes, counting: 3.8 - 4.5
+  ms (previously 8 - 9 ms). The reference takes 23 - 34 times longer on the same frames;
+- one code table per frame extent (the previous design) was rebuilt for most frames of moving figures,
+  ~2 ms per frame; the grown table is built once or twice per motion;
+- scipy converts CSR index arrays that are not int32 (uint16 rows, int64 run starts) slowly: 0.5 - 3 ms
+  per product, against 0.03 ms for int32 arrays, so they are passed as int32;
+- alternatives for soft votes: summing the runs by ``np.add.reduceat`` over gathered table rows, 11 -
+  13 ms (against 2.2 ms for the CSR product); keeping the pairs outside the support as a zero row
+  instead of dropping them, 12 ms per frame; the sparse product ``A @ T`` of the (basis x offset) pair
+  indicator with the table (scipy CSR x CSR, no sort needed), 9 ms for the product alone;
+  ``np.bincount`` over the (basis, bin) keys of all partial votes, padded to 8 per pair: 23 ms; only
+  pairing each basis voxel with the surface voxels within the table radius along the lead axis (a
+  window of ~88% of them on human figures): no gain.
+
+``ShapeContextTable.describe_frames(frames, threads=2)`` describes frames on a thread pool. The numpy
+and scipy calls above release the GIL (a Python thread kept running during each of them), so two
+threads can use two cores; with the VM's two cores busy with other jobs, no gain was measurable.
 
 A dense 3D convolution of the occupancy grid with each bin's kernel needs about ``n_bins`` grid-sized
 FFTs per frame, far slower, and was not pursued. Small dense products go through scipy's sparse kernels
 rather than BLAS: multithreaded OpenBLAS took ~20 ms per call to wake its threads on the loaded machine.
 """
 
+import contextlib
 import functools
 import logging
 import math
+import threading
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -70,7 +88,7 @@ class OffsetTable:
 
     radius: int  # every support offset has |component| <= radius
     offsets: np.ndarray  # (R, 3) int64 support offsets, one per row, rows sorted by group
-    group: np.ndarray  # (R,) int64 group of each row
+    group: np.ndarray  # (R,) int32 group of each row
     counting: bool
     group_votes: sp.csr_array | None  # counting: (n_bins, n_groups) votes of each group
     weights: np.ndarray | None  # segments: (R, width) float64 slot weights of each row
@@ -144,7 +162,7 @@ def offset_table(geometry: BinGeometry, soft: bool) -> OffsetTable:
         first, group = _distinct_rows(slot_bins)
         group_bins, group_votes = slot_bins[first], None
     order = np.argsort(group, kind="stable")
-    group = group[order]
+    group = group[order].astype(np.int32)  # int32: half the traffic of the per-pair group lookup
     log.info(
         "3DSC lookup table: R_max %.4g voxels, %d offsets, %d votes, %d groups (%s)",
         geometry.r_max,
@@ -171,9 +189,13 @@ def _as_voxels(name: str, values) -> np.ndarray:
         raise VoxposeError(f"shape context: {name} must have shape (N, 3), got {arr.shape}")
     if len(arr) == 0:
         raise VoxposeError(f"shape context: {name} is empty")
+    if np.issubdtype(arr.dtype, np.floating):
+        bad = ~np.isfinite(arr).all(axis=1)
+        if bad.any():
+            raise VoxposeError(f"shape context: {name} row {int(np.argmax(bad))} is not finite: {arr[bad][0]}")
     if not np.issubdtype(arr.dtype, np.integer):
         raise VoxposeError(f"shape context: {name} must hold integer voxel indices, got dtype {arr.dtype}")
-    return arr.astype(np.int64)
+    return arr.astype(np.int64, copy=False)
 
 
 class ShapeContextTable:
@@ -181,8 +203,8 @@ class ShapeContextTable:
 
     Parameters are those of :func:`voxpose.shape_context.shape_contexts`, with the subject height in
     voxels ``h_sub_voxels = h_sub / l_res`` (60 in the paper) in place of ``l_res`` and ``h_sub``: on the
-    grid only their ratio matters. The offset table is cached per parameter set (module-wide), the
-    per-frame code tables per frame extent (per instance).
+    grid only their ratio matters. The offset table is cached per parameter set (module-wide), the code
+    table per instance.
     """
 
     def __init__(
@@ -203,47 +225,32 @@ class ShapeContextTable:
         self.soft = bool(soft)
         self.normalise = bool(normalise)
         self.table = offset_table(self.geometry, self.soft)
-        self._code_tables = {}
+        self._codes = None  # the current _CodeTable, grown to the largest extent seen
+        self._codes_lock = threading.Lock()
 
     @property
     def n_bins(self) -> int:
         return self.geometry.n_bins
 
-    def _code_table(self, extent: tuple[int, int, int]):
-        """Lookup from code differences to table rows (or groups) for voxel sets within ``extent``.
+    def _code_table(self, extent: np.ndarray) -> "_CodeTable":
+        """The code table for a voxel set of ``extent`` (max - min per axis); grown when one is too small.
 
-        A voxel ``v`` (shifted to non-negative coordinates) has code ``v @ strides``, mixed radix with the
-        axis of largest extent most significant; the difference of two codes decodes their offset
-        uniquely because every offset component is within ``extent``. Along the leading axis only offsets
-        up to the table radius are tabulated (plus one "outside" entry at each end), so pair codes are
-        clipped into the table's range instead of being range-checked per axis. "Outside" is the number
-        of rows (groups when counting), one past the last. Returns ``(strides, shift, lookup)``: a pair's
-        entry is ``lookup[clip(code(s) + shift - code(b))]``.
+        One table serves every frame whose extent it covers, so a motion needs one or a few tables (a
+        table per extent would be rebuilt for most frames of a moving figure). Thread safe.
         """
-        cached = self._code_tables.get(extent)
-        if cached is not None:
-            return cached
-        t = self.table
-        lead, mid, low = np.argsort(extent, kind="stable")[::-1]
-        reach = np.array(extent)
-        reach[lead] = min(reach[lead], t.radius)
-        strides = np.zeros(3, dtype=np.int64)
-        strides[low], strides[mid] = 1, 2 * reach[low] + 1
-        strides[lead] = (2 * reach[mid] + 1) * strides[mid]
-        half = int(reach @ strides)
-        if 2 * half + 3 > _MAX_CODE_TABLE:
-            raise VoxposeError(
-                f"shape context: voxel set spans {' x '.join(str(e + 1) for e in extent)} voxels, "
-                "too large for the lookup table"
-            )
-        keep = (np.abs(t.offsets) <= reach).all(axis=1)
-        values = t.group if t.counting else np.arange(len(t.offsets))
-        lookup = np.full(2 * half + 3, values[-1] + 1, dtype=np.int32)
-        lookup[half + 1 + t.offsets[keep] @ strides] = values[keep]
-        if len(self._code_tables) >= 8:
-            self._code_tables.pop(next(iter(self._code_tables)))
-        self._code_tables[extent] = strides, half + 1, lookup
-        return self._code_tables[extent]
+        codes = self._codes
+        if codes is not None and codes.covers(extent):
+            return codes
+        with self._codes_lock:
+            codes = self._codes
+            if codes is None or not codes.covers(extent):
+                grown = extent if codes is None else np.maximum(codes.seen, extent)
+                try:
+                    codes = _CodeTable.build(self.table, grown)
+                except VoxposeError:
+                    codes = _CodeTable.build(self.table, extent)  # this frame alone may still fit
+                self._codes = codes
+        return codes
 
     def describe(self, surface_ijk, basis_ijk) -> np.ndarray:
         """Descriptors ``(M, n_bins)`` float64 at the basis voxels, from the surface voxels.
@@ -259,10 +266,9 @@ class ShapeContextTable:
         basis = _as_voxels("basis_ijk", basis_ijk)
         low = np.minimum(surface.min(axis=0), basis.min(axis=0))
         high = np.maximum(surface.max(axis=0), basis.max(axis=0))
-        extent = tuple(int(-(-e // 8) * 8) for e in (high - low))  # rounded up: fewer code tables
-        strides, shift, lookup = self._code_table(extent)
-        surface_code = (surface - low) @ strides + shift
-        basis_code = (basis - low) @ strides
+        codes = self._code_table(high - low)
+        surface_code = (surface - low) @ codes.strides + codes.shift
+        basis_code = (basis - low) @ codes.strides
         if max(surface_code.max(), basis_code.max()) < 2**31:  # int32 halves the memory traffic
             surface_code, basis_code = surface_code.astype(np.int32), basis_code.astype(np.int32)
         t = self.table
@@ -270,9 +276,8 @@ class ShapeContextTable:
         out = np.empty((len(basis), n_out))
         step = max(1, _CHUNK_PAIRS // max(len(surface), n_out + 1))  # also bounds the per-chunk histograms
         for start in range(0, len(basis), step):
-            codes = surface_code[None, :] - basis_code[start : start + step, None]
-            np.clip(codes, 0, len(lookup) - 1, out=codes)
-            entries = lookup.take(codes)
+            pair_codes = surface_code[None, :] - basis_code[start : start + step, None]
+            entries = codes.lookup.take(pair_codes, mode="clip")  # beyond the table's ends: "outside"
             out[start : start + step] = self._count(entries) if t.counting else self._segments(entries)
         if not t.counting:
             out = out[:, : self.n_bins] + (t.extra @ out[:, self.n_bins :].T).T
@@ -282,39 +287,102 @@ class ShapeContextTable:
         """Descriptors of ``m`` basis voxels from the ``(m, N)`` groups of their pairs (counting)."""
         t = self.table
         m, n_keys = len(groups), t.n_groups + 1  # the last group is "outside the support"
-        groups += (np.arange(m, dtype=groups.dtype) * n_keys)[:, None]
-        counts = np.bincount(groups.ravel(), minlength=m * n_keys).reshape(m, n_keys)
+        keys = groups + (np.arange(m, dtype=np.intp) * n_keys)[:, None]
+        counts = np.bincount(keys.ravel(), minlength=m * n_keys).reshape(m, n_keys)
         return (t.group_votes @ counts[:, :-1].T.astype(np.float64)).T
 
     def _segments(self, rows: np.ndarray) -> np.ndarray:
         """Extended-bin descriptors of ``m`` basis voxels from the ``(m, N)`` table rows of their pairs."""
         t = self.table
-        m = len(rows)
+        m, n_rows = len(rows), len(t.group)
         n_ext = self.n_bins + t.extra.shape[1]
         rows.sort(axis=1)  # rows are sorted by group, so each basis voxel's pairs form runs of a group
-        inside = rows < len(t.group)
-        per_basis = inside.sum(axis=1)
+        inside = rows < n_rows  # "outside" sorts last
+        ends = np.cumsum(np.count_nonzero(inside, axis=1))  # end of each basis voxel's pairs
         rows = rows[inside]
+        if len(rows) == 0:
+            return np.zeros((m, n_ext))
+        rows = rows.astype(np.int32)  # scipy takes int32 indices as they are; others cost a slow conversion
         group = t.group.take(rows)
-        run_start = np.ones(len(rows), dtype=bool)
+        run_start = np.empty(len(rows), dtype=bool)
+        run_start[0] = True
         np.not_equal(group[1:], group[:-1], out=run_start[1:])
-        run_start[(np.cumsum(per_basis) - per_basis)[per_basis > 0]] = True
-        starts = np.flatnonzero(run_start)
-        runs = sp.csr_array((np.ones(len(rows)), rows, np.append(starts, len(rows))), shape=(len(starts), len(t.group)))
-        sums = runs @ t.weights
-        run_basis = np.repeat(np.arange(m), per_basis).take(starts)
-        keys = (run_basis * (n_ext + 1))[:, None] + t.group_bins.take(group.take(starts), axis=0)
-        totals = np.bincount(keys.ravel(), sums.ravel(), minlength=m * (n_ext + 1))
+        run_start[ends[ends < len(rows)]] = True  # a basis voxel's first pair starts a run
+        starts = np.flatnonzero(run_start).astype(np.int32)
+        indptr = np.append(starts, np.int32(len(rows)))
+        runs = sp.csr_array((np.ones(len(rows)), rows, indptr), shape=(len(starts), n_rows))
+        sums = runs @ t.weights  # (runs, width): each run's summed slot weights
+        width = sums.shape[1]
+        runs_per_basis = np.diff(np.searchsorted(starts, ends), prepend=0)
+        keys = t.group_bins.take(group.take(starts), axis=0).ravel()
+        keys += np.repeat(np.arange(0, m * (n_ext + 1), n_ext + 1), runs_per_basis * width)
+        totals = np.bincount(keys, sums.ravel(), minlength=m * (n_ext + 1))
         return totals.reshape(m, n_ext + 1)[:, :n_ext]
 
-    def describe_frames(self, frames) -> list[np.ndarray]:
-        """Descriptors of many frames: ``frames`` yields ``(surface_ijk, basis_ijk)``; one array each."""
+    def describe_frames(self, frames, threads: int = 1) -> list[np.ndarray]:
+        """Descriptors of many frames: ``frames`` yields ``(surface_ijk, basis_ijk)``; one array each.
+
+        With ``threads > 1`` frames are described concurrently by a thread pool (the heavy numpy and scipy
+        calls release the GIL), in order.
+        """
+        threads = max(1, int(threads))
         out = []
-        for i, (surface, basis) in enumerate(frames):
-            out.append(self.describe(surface, basis))
-            if (i + 1) % 100 == 0:
-                log.info("3DSC: %d frames described", i + 1)
+        with ThreadPoolExecutor(threads) if threads > 1 else contextlib.nullcontext() as pool:
+            described = pool.map(self._describe_pair, frames) if pool else map(self._describe_pair, frames)
+            for desc in described:
+                out.append(desc)
+                if len(out) % 100 == 0:
+                    log.info("3DSC: %d frames described", len(out))
         return out
+
+    def _describe_pair(self, frame) -> np.ndarray:
+        surface, basis = frame
+        return self.describe(surface, basis)
+
+
+@dataclass(frozen=True, eq=False)
+class _CodeTable:
+    """Lookup from voxel-pair code differences to offset-table rows (or groups when counting).
+
+    A voxel ``v`` (shifted to non-negative coordinates) has code ``v @ strides``, mixed radix with the
+    ``lead`` axis most significant; the difference of two codes decodes their offset uniquely when
+    every offset component is within ``reach``. Along the lead axis only offsets up to the table radius
+    are tabulated (plus one "outside" entry at each end), so pair codes are clipped into the table's
+    range instead of being range-checked per axis, and a voxel set of any extent along the lead axis is
+    covered. "Outside" is the number of rows (groups when counting), one past the last. A pair's entry
+    is ``lookup[clip(code(s) + shift - code(b))]``; entries are uint16 when they fit (half the traffic).
+    """
+
+    seen: np.ndarray  # (3,) extent the table was built for (rounded up)
+    lead: int
+    strides: np.ndarray  # (3,) int64
+    shift: int
+    lookup: np.ndarray  # (2 * shift + 1,) uint16 or int32
+
+    def covers(self, extent) -> bool:
+        return bool(all(extent[a] <= self.seen[a] for a in range(3) if a != self.lead))
+
+    @classmethod
+    def build(cls, table: OffsetTable, extent) -> "_CodeTable":
+        seen = -(-np.asarray(extent, dtype=np.int64) // 8) * 8  # rounded up: fewer rebuilds
+        lead, mid, low = np.argsort(seen, kind="stable")[::-1]
+        reach = seen.copy()
+        reach[lead] = min(reach[lead], table.radius)
+        strides = np.zeros(3, dtype=np.int64)
+        strides[low], strides[mid] = 1, 2 * reach[low] + 1
+        strides[lead] = (2 * reach[mid] + 1) * strides[mid]
+        half = int(reach @ strides)
+        if 2 * half + 3 > _MAX_CODE_TABLE:
+            raise VoxposeError(
+                f"shape context: voxel set spans {' x '.join(str(int(e) + 1) for e in extent)} voxels, "
+                "too large for the lookup table"
+            )
+        keep = (np.abs(table.offsets) <= reach).all(axis=1)
+        values = table.group if table.counting else np.arange(len(table.offsets))
+        outside = int(values[-1]) + 1
+        lookup = np.full(2 * half + 3, outside, dtype=np.uint16 if outside <= np.iinfo(np.uint16).max else np.int32)
+        lookup[half + 1 + table.offsets[keep] @ strides] = values[keep]
+        return cls(seen=seen, lead=int(lead), strides=strides, shift=half + 1, lookup=lookup)
 
 
 def shape_contexts_grid(

@@ -11,9 +11,9 @@ rule describe:
         code=code("shape_context", "shape_context_lut", "store"),
     log:
         "results/logs/describe/{rig}/{desc}/{motion}.log",
-    threads: 1
+    threads: 2  # frames are described by a thread pool (numpy and scipy release the GIL)
     resources:
         mem_mb=2000,
         runtime=lambda w, input: 5 + int(input.size_mb),
     shell:
-        "voxpose describe {input} --params {params.cfg} -o {output} --log {log}"
+        "voxpose describe {input} --params {params.cfg} -o {output} --log {log} --threads {threads}"
