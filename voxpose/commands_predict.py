@@ -3,7 +3,6 @@
 ``COMMANDS`` has the shape of ``voxpose.commands.COMMANDS``.
 """
 
-import json
 import logging
 from pathlib import Path
 
@@ -67,13 +66,21 @@ def _predict_args(p):
     source.add_argument("--silhouettes", help="folder with one PNG folder per camera (see voxpose/silhouette_io.py)")
     source.add_argument("--voxels", help="voxel file (HDF5) from `voxpose carve` or `voxpose voxelize`")
     p.add_argument("--rig", help="rig calibration file (JSON or YAML); needed with --silhouettes")
-    p.add_argument("--smooth", type=float, default=0.0,
-                   help="Gaussian smoothing over time, sigma in frames (default 0: none, as in the paper)")
+    p.add_argument(
+        "--smooth",
+        type=float,
+        default=0.0,
+        help="Gaussian smoothing over time, sigma in frames (default 0: none, as in the paper)",
+    )
     p.add_argument("--fps", type=float, help="frame rate of the BVH (default: the voxel file's, else the model's)")
     p.add_argument("--csv", help="angles per frame (default: the output's name with .csv)")
     p.add_argument("--record", help="prediction record for `voxpose render` (default: the output's name with .h5)")
-    p.add_argument("-o", "--output", required=True,
-                   help="BVH file; frames with an empty hull are gaps: NaN rows in the CSV, rest pose in the BVH")
+    p.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        help="BVH file; frames with an empty hull are gaps: NaN rows in the CSV, rest pose in the BVH",
+    )
 
 
 def _predict(args):

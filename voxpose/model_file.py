@@ -127,4 +127,3 @@ def voxel_settings(cfg: dict, seed: int) -> dict:
     """The model's voxel settings from the config's ``voxels`` section and the master seed."""
     return {"l_res_fraction": float(cfg.get("l_res_fraction", 1 / 60)), "min_views": cfg.get("min_views"),
             "n_basis": int(cfg.get("n_basis", 200)), "seed": int(seed)}  # fmt: skip
-

@@ -76,4 +76,3 @@ def _from_groups(groups):
     )
     skeleton = OutputSkeleton(**groups["skeleton"][0])
     return prediction, skeleton, meta
-
