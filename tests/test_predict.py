@@ -208,3 +208,25 @@ def test_voxels_carved_at_another_resolution_are_refused(trained, tmp_path, caps
     )
     one_line_error(proc, str(tmp_path / "coarse.h5"), "the model needs 0.0333333")
     _outputs_absent(tmp_path)
+
+
+def test_smoothing_keeps_straight_lines_and_respects_gaps_and_wraps():
+    from voxpose.predict import smooth_angles
+
+    t = np.arange(60, dtype=float)
+    angles = np.tile(t[:, None], (1, canon.N_ANGLES)) * 2.0
+    angles[:, 0] = (100.0 + 3.0 * t + 180.0) % 360.0 - 180.0  # a heading that wraps at +-180
+    angles[36:41] += np.where(np.arange(5) % 2, 4.0, -4.0)[:, None]  # jitter the smoothing must remove
+    valid = np.ones(60, dtype=bool)
+    valid[50] = False
+    angles[50] = np.nan
+    out = smooth_angles(angles, valid, 2.0)
+    assert np.isnan(out[50]).all() and np.isfinite(np.delete(out, 50, axis=0)).all()
+    line = 2.0 * t
+    # the kernel reaches 8 frames (4 sigma): beyond that from the run's ends and the jitter, a line stays a line
+    np.testing.assert_allclose(out[8:28, 1], line[8:28], atol=1e-9)
+    assert np.abs(out[36:41, 1] - line[36:41]).max() < 0.5  # the +-4 degree jitter shrinks below 0.5
+    np.testing.assert_allclose(out[51:, 1], smooth_angles(angles[51:], valid[51:], 2.0)[:, 1])  # runs apart
+    heading = np.mod(out[8:28, 0] - (100.0 + 3.0 * t[8:28]) + 180.0, 360.0) - 180.0
+    assert np.abs(heading).max() < 1e-9  # unwrapped before smoothing: the wrap near frame 27 does not smear
+    np.testing.assert_array_equal(smooth_angles(angles, valid, 0.0), angles)
