@@ -10,6 +10,7 @@ Tables 1-2) is recomputed over the same valid frames. Sigma 0 is the paper's set
 """
 
 import argparse
+from pathlib import Path
 
 import numpy as np
 
@@ -37,10 +38,11 @@ def main() -> None:
     parser.add_argument("--sigmas", type=float, nargs="+", default=[0, 0.5, 1, 2, 3, 5], help="sigmas (frames)")
     args = parser.parse_args()
     print("full-body error (degrees) of the MVRVM estimates after Gaussian smoothing over time, sigma in frames")
-    print(f"{'run':<60} " + " ".join(f"{s:>7g}" for s in args.sigmas))
+    print(f"{'run (folder of predictions.h5)':<60} " + " ".join(f"{s:>7g}" for s in args.sigmas))
     for path in args.predictions:
         row = errors(path, args.sigmas)
-        print(f"{str(path)[-60:]:<60} " + " ".join(f"{row[s]:7.3f}" for s in args.sigmas))
+        label = str(Path(path).parent).removeprefix("results/runs/")
+        print(f"{label[-60:]:<60} " + " ".join(f"{row[s]:7.3f}" for s in args.sigmas))
 
 
 if __name__ == "__main__":

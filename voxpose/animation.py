@@ -38,6 +38,7 @@ def _draw(ax, points, skeletons, centre, half, title):
     ax.set_xlim(centre[0] - half, centre[0] + half)
     ax.set_ylim(centre[2] - half, centre[2] + half)
     ax.set_zlim(centre[1] - half, centre[1] + half)
+    ax.set_box_aspect((1, 1, 1), zoom=1.5)
     ax.set_axis_off()
     ax.set_title(title, fontsize=9)
 
@@ -55,10 +56,11 @@ def render_gif(prediction: Prediction, offsets, path, *, every: int = 1, fps: fl
         truth = _skeletons(prediction.true_angles, valid & np.isfinite(prediction.true_angles).all(axis=1),
                            offsets, prediction.root)  # fmt: skip
     extent = [np.ptp(seq.frame(f)[0], axis=0).max() for f in np.flatnonzero(~seq.empty)]
-    half = 0.6 * (max(extent) + 1) * seq.l_res
+    half = 0.55 * (max(extent) + 1) * seq.l_res
     last_centre = np.nanmean(prediction.root, axis=0)
     dpi = 100
     fig = plt.figure(figsize=(size_px / dpi, size_px / dpi), dpi=dpi)
+    fig.subplots_adjust(left=0, right=1, bottom=0, top=0.93)
     ax = fig.add_subplot(projection="3d")
     images = []
     try:
