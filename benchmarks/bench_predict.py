@@ -96,9 +96,9 @@ def main() -> None:
             sil = seq_ref.silhouettes
             n_frames += len(sil)
             carver = Carver(rig, seq_ref.l_res)
-            voxels, t = cpu(lambda: [carver(s) for s in sil])
+            voxels, t = cpu(lambda c, frames: [c(s) for s in frames], carver, sil)
             stages["carve"] += t
-            _, t = cpu(lambda: [basis_indices(v[surface_mask(v)], 200, 0) for v in voxels])
+            _, t = cpu(lambda frames: [basis_indices(v[surface_mask(v)], 200, 0) for v in frames], voxels)
             stages["surface+basis"] += t
             descriptors, t = cpu(predict.describe, model, seq_ref)
             stages["3DSC"] += t
@@ -111,7 +111,7 @@ def main() -> None:
             total_e2e += t_carve + t_rest
             folder = Path(tmp) / "sil"
             write_silhouette_folder(sil[:10], rig, folder)
-            _, t = cpu(lambda: list(iter_silhouette_folder(folder, rig)))
+            _, t = cpu(lambda f: list(iter_silhouette_folder(f, rig)), folder)
             io += t / 10 * len(sil)
     print(f"{'stage':<16} {'ms/frame':>9} {'frames/s':>9}")
     for name, t in stages.items():
