@@ -15,6 +15,11 @@ which has the default model's sizes; speed does not depend on how well it is fit
 Times are CPU times of this process (robust to a loaded machine). Run on one core, as reported:
 
     OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 taskset -c 0 .venv/bin/python benchmarks/bench_predict.py
+
+Measured on the shared 2-core VM (load average 4.5-4.8 from other jobs), ms per frame: carve 9.4, surface and
+basis 3.5, 3DSC 13.0, features 7.7, regression 0.02; end to end 33.7 ms, 29.7 frames/s, short of the
+50 frames/s target. The MPPCA features are bound by one (n x 201) @ (201 x K(q + 1)) product per frame
+(2.7 ms of them); 3DSC is the largest stage.
 """
 
 import os
