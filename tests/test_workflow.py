@@ -62,6 +62,8 @@ def test_quick_run_writes_every_artifact(workflow_dir):
         "figures/gallery.png",
         "figures/joint_errors.png",
         "figures/error_over_time.png",
+        "models/table1/circle6-quick/R0.3333-r2-4x5x10-soft/mppca-K16-q3/model.h5",
+        "models/table2/circle6-quick/R0.3333-r2-4x5x10-soft/mppca-K16-q3/model.h5",
     ):
         assert (workflow_dir / "results" / name).stat().st_size > 0, name
     t1 = pd.read_csv(workflow_dir / "results/tables/table1.csv")

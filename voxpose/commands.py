@@ -298,19 +298,14 @@ def _regress(args):
     import pandas as pd
 
     from . import canon
+    from .model_file import regressor_arrays
     from .regression_run import run
     from .store import atomic_path, read_motion, read_per_motion, write_arrays, write_per_motion
 
     features, _ = read_per_motion(args.features, "features")
     motions = {m.name: m for m in map(read_motion, args.motions)}
     result = run(features, motions, args.train.split(","), args.test.split(","), _params(args.params), args.seed)
-    pca, model = result.pca, result.mvrvm
-    arrays = {"pca_mean": pca.mean_, "pca_components": pca.components_, "relevance": model.relevance_,
-              "relevance_vectors": model.relevance_vectors_, "coef": model.coef_, "alpha": model.alpha_,
-              "beta": model.beta_}  # fmt: skip
-    meta = {"kernel_width": model.kernel_width_, "has_bias": bool(model.has_bias_),
-            "log_marginal_likelihood": list(map(float, model.log_marginal_likelihood_))}  # fmt: skip
-    write_arrays(args.model, "regressor", arrays, meta)
+    write_arrays(args.model, "regressor", *regressor_arrays(result.pca, result.mvrvm))
     write_per_motion(args.predictions, "predictions", result.predictions, {"summary": result.summary})
     frames = []
     for name, p in result.predictions.items():

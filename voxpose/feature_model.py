@@ -74,20 +74,18 @@ class FeatureModel:
             return mppca_features(self.estimator, descriptors, frame_index, n_frames)
         return kmeans_features(self.estimator.cluster_centers_, descriptors, frame_index, n_frames, rule=self.rule)
 
-    def save(self, path) -> None:
+    def to_arrays(self) -> tuple[dict, dict]:
+        """(arrays, meta) that ``from_arrays`` turns back into this model (the model file's contents)."""
         if self.method == "mppca":
             m = self.estimator
             arrays = {"weights": m.weights_, "means": m.means_, "components": m.components_,
                       "noise_variance": m.noise_variance_}  # fmt: skip
-            meta = self.meta | {"noise_variance_floor": m.noise_variance_floor_}
-        else:
-            arrays = {"centres": self.estimator.cluster_centers_}
-            meta = self.meta | {"n_nearest": self.rule.n_nearest, "bandwidth": self.rule.bandwidth}
-        write_arrays(path, "feature-model", arrays, meta)
+            return arrays, self.meta | {"noise_variance_floor": m.noise_variance_floor_}
+        arrays = {"centres": self.estimator.cluster_centers_}
+        return arrays, self.meta | {"n_nearest": self.rule.n_nearest, "bandwidth": self.rule.bandwidth}
 
     @classmethod
-    def load(cls, path) -> "FeatureModel":
-        arrays, meta = read_arrays(path, "feature-model")
+    def from_arrays(cls, arrays: dict, meta: dict) -> "FeatureModel":
         method, cfg = meta["method"], meta["params"]
         if method == "mppca":
             model = MPPCA(cfg["n_components"], n_latent=cfg["n_latent"])
@@ -99,3 +97,10 @@ class FeatureModel:
         model = KMeans(cfg["n_components"])
         model.cluster_centers_ = arrays["centres"]
         return cls(method, model, SoftVoteRule(meta["n_nearest"], meta["bandwidth"]), meta)
+
+    def save(self, path) -> None:
+        write_arrays(path, "feature-model", *self.to_arrays())
+
+    @classmethod
+    def load(cls, path) -> "FeatureModel":
+        return cls.from_arrays(*read_arrays(path, "feature-model"))

@@ -162,6 +162,40 @@ def read_arrays(path, layout: str):
         return {key: f[key][()] for key in f}, _read_meta(f)
 
 
+def write_groups(path, layout: str, groups: dict, meta: dict, attrs: dict | None = None) -> None:
+    """Named groups of arrays, each with its own metadata: ``groups[name] = (arrays, meta)`` (bundled models).
+
+    ``attrs`` are extra scalar file attributes (e.g. a format version a reader checks before anything else).
+    """
+    with atomic_path(path) as tmp, _new(tmp, layout) as f:
+        for key, value in (attrs or {}).items():
+            f.attrs[key] = value
+        for name, (arrays, group_meta) in groups.items():
+            group = f.create_group(name)
+            for key, value in arrays.items():
+                value = np.asarray(value)
+                group.create_dataset(key, data=value, compression="gzip" if value.size > 4096 else None)
+            _write_meta(group, group_meta)
+        _write_meta(f, meta)
+
+
+def read_groups(path, layout: str, check=None):
+    """-> ({name: (arrays, meta)}, meta) of a file written by ``write_groups``.
+
+    ``check(attrs)`` runs on the file attributes before anything else is read. A missing piece (a
+    damaged or hand-edited file) is a one-line error naming the file.
+    """
+    with _open(path, layout) as f:
+        _check_layout(f, path, layout)
+        if check is not None:
+            check(f.attrs)
+        try:
+            groups = {name: ({k: g[k][()] for k in g}, _read_meta(g)) for name, g in f.items()}
+            return groups, _read_meta(f)
+        except (KeyError, OSError, ValueError) as err:
+            raise VoxposeError(f"{path}: damaged {layout} file ({err})") from None
+
+
 def write_per_motion(path, layout: str, motions: dict, meta: dict) -> None:
     """Named arrays per motion: ``motions[name][key]`` -> dataset ``/motions/name/key``."""
     with atomic_path(path) as tmp, _new(tmp, layout) as f:
@@ -185,26 +219,37 @@ def read_per_motion(path, layout: str):
 _VOXEL_ARRAYS = ("ijk", "offsets", "surface", "basis", "basis_offsets", "empty", "shifts")
 
 
+def voxel_arrays(seq) -> tuple[dict, dict]:
+    """A ``voxelize.VoxelSequence`` as (arrays, meta), the form every file holding voxels stores."""
+    arrays = {key: np.asarray(getattr(seq, key)) for key in _VOXEL_ARRAYS}
+    return arrays, {"l_res": seq.l_res, "h_sub": seq.h_sub, "h_sub_frame": seq.h_sub_frame}
+
+
+def voxels_from_arrays(arrays: dict, meta: dict):
+    """Inverse of ``voxel_arrays``."""
+    from .voxelize import VoxelSequence
+
+    kept = {key: arrays[key] for key in _VOXEL_ARRAYS}
+    return VoxelSequence(l_res=meta["l_res"], h_sub=meta["h_sub"], h_sub_frame=meta["h_sub_frame"], **kept)
+
+
 def write_voxels(path, seq, meta: dict, angles=None) -> None:
     """A ``voxelize.VoxelSequence`` (sparse voxel coordinates, chunked and compressed), the rig's calibration
     and parameters in ``meta``, and the frames' ground-truth poses (F, 42) when known."""
+    arrays, seq_meta = voxel_arrays(seq)
     with atomic_path(path) as tmp, _new(tmp, "voxels") as f:
-        for key in _VOXEL_ARRAYS:
-            value = np.asarray(getattr(seq, key))
+        for key, value in arrays.items():
             f.create_dataset(key, data=value, compression="gzip" if value.size else None)
         if angles is not None:
             f.create_dataset("angles", data=angles)
-        _write_meta(f, meta | {"l_res": seq.l_res, "h_sub": seq.h_sub, "h_sub_frame": seq.h_sub_frame})
+        _write_meta(f, meta | seq_meta)
 
 
 def read_voxels(path):
     """-> (VoxelSequence, meta, angles or None)."""
-    from .voxelize import VoxelSequence
-
     with _open(path, "voxels") as f:
         _check_layout(f, path, "voxels")
         meta = _read_meta(f)
         arrays = {key: f[key][()] for key in _VOXEL_ARRAYS}
         angles = f["angles"][()] if "angles" in f else None
-    seq = VoxelSequence(l_res=meta["l_res"], h_sub=meta["h_sub"], h_sub_frame=meta["h_sub_frame"], **arrays)
-    return seq, meta, angles
+    return voxels_from_arrays(arrays, meta), meta, angles

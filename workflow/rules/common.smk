@@ -149,4 +149,5 @@ def final_targets():
         "results/figures/gallery.png",
         "results/figures/joint_errors.png",
         "results/figures/error_over_time.png",
+        *(f"results/models/{exp}/{RIG}/{DESC}/{MPPCA}/model.h5" for exp in ("table1", "table2")),
     ]

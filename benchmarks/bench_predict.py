@@ -1,0 +1,132 @@
+"""End-to-end inference speed of ``voxpose predict``: 6-view silhouettes -> 42 angles, frames per second.
+
+Silhouettes of generated motions (one per motion type) are rendered into the default rig (6 cameras,
+480 x 480) and kept in memory; the stages of ``voxpose.predict`` then run on them, each timed over the whole
+sequence and reported per frame: carving (``Carver`` at l_res = h_sub / 60, after h_sub is measured on the
+first frame), surface and basis voxels (``surface_mask``, ``basis_indices``, 200 basis voxels), 3D shape
+contexts (``ShapeContextTable``, default descriptor), features (Eq. 5, MPPCA K = 200, q = 5) and regression
+(MVRVM, inverse PCA, heading decoding). The end-to-end line times the library path itself
+(``predict.carve`` + ``predict.predict_voxels``); reading PNG files is timed separately.
+
+The model: ``--model FILE`` (a workflow's model file); by default a stand-in fitted here on the benchmark's
+own frames (MPPCA K = 200, q = 5 with ``--mppca-iter`` EM iterations, pose PCA and MVRVM as in the workflow),
+which has the default model's sizes; speed does not depend on how well it is fitted.
+
+Times are CPU times of this process (robust to a loaded machine). Run on one core, as reported:
+
+    OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 taskset -c 0 .venv/bin/python benchmarks/bench_predict.py
+
+Measured on the shared 2-core VM (load average 4.5-4.8 from other jobs), ms per frame: carve 9.4, surface and
+basis 3.5, 3DSC 13.0, features 7.7, regression 0.02; end to end 33.7 ms, 29.7 frames/s, short of the
+50 frames/s target. The MPPCA features are bound by one (n x 201) @ (201 x K(q + 1)) product per frame
+(2.7 ms of them); 3DSC is the largest stage.
+"""
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import argparse  # noqa: E402
+import tempfile  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from voxpose import predict  # noqa: E402
+from voxpose.bvh import write_bvh  # noqa: E402
+from voxpose.cameras import circular_rig  # noqa: E402
+from voxpose.carve import Carver  # noqa: E402
+from voxpose.feature_model import FeatureModel  # noqa: E402
+from voxpose.model_file import PoseModel, load_model  # noqa: E402
+from voxpose.motion_generator import generate_motion  # noqa: E402
+from voxpose.motion_loader import load_motion  # noqa: E402
+from voxpose.mvrvm import MVRVM  # noqa: E402
+from voxpose.output_skeleton import OutputSkeleton  # noqa: E402
+from voxpose.pose_encoding import encode  # noqa: E402
+from voxpose.pose_space import PosePCA  # noqa: E402
+from voxpose.silhouette_io import iter_silhouette_folder, write_silhouette_folder  # noqa: E402
+from voxpose.surface import basis_indices, surface_mask  # noqa: E402
+from voxpose.voxelize import voxelize_motion  # noqa: E402
+
+DESCRIPTOR = {"n_r": 4, "n_e": 5, "n_a": 10, "r_min": 2.0, "r_max": 1 / 3, "soft": True, "normalise": False}
+VOXELS = {"l_res_fraction": 1 / 60, "min_views": None, "n_basis": 200, "seed": 0}
+
+
+def cpu(fn, *args):
+    start = time.process_time()
+    out = fn(*args)
+    return out, time.process_time() - start
+
+
+def stand_in_model(sequences, motions, mppca_iter: int) -> PoseModel:
+    """A model of the default sizes fitted on the benchmark's frames (timing only)."""
+    model = PoseModel(VOXELS, DESCRIPTOR, None, None, None, "vector", OutputSkeleton.from_motions(motions))
+    descriptors = [d for seq in sequences for d in predict.describe(model, seq)]
+    cfg = {"n_components": 200, "n_latent": 5, "max_iter": mppca_iter, "tol": 1e-4, "fit_subsample": 20000}
+    model.features = FeatureModel.fit("mppca", np.concatenate(descriptors), cfg, seed=0)
+    x, _ = predict.featurise(model, descriptors)
+    y = encode(np.concatenate([m.angles for m in motions]), "vector")
+    model.pca = PosePCA(0.9).fit(y)
+    model.mvrvm = MVRVM(kernel_width="median", random_state=0).fit(x, model.pca.transform(y))
+    return model
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--frames", type=int, default=60, help="frames per generated motion (5 motions)")
+    parser.add_argument("--model", help="a model file from the workflow instead of the stand-in")
+    parser.add_argument("--mppca-iter", type=int, default=3, help="EM iterations of the stand-in MPPCA")
+    args = parser.parse_args()
+    rig = circular_rig()
+    with tempfile.TemporaryDirectory() as tmp:
+        motions = []
+        for i, kind in enumerate(("walk", "drunk", "spiral", "jog", "jump")):
+            path = Path(tmp) / f"{kind}_bench_{i:02d}.bvh"
+            write_bvh(generate_motion(kind, seed=i, n_frames=args.frames, height=1.75), path)
+            motions.append(load_motion(path))
+        rendered = [voxelize_motion(m, rig, keep_silhouettes=True, progress_every=0) for m in motions]
+        if args.model:
+            model = load_model(args.model)
+        else:
+            print(f"fitting a stand-in model (MPPCA K=200, q=5, {args.mppca_iter} EM iterations) ...", flush=True)
+            model = stand_in_model(rendered, motions, args.mppca_iter)
+        print(f"rig {rig.name}: {len(rig)} cameras {rig.image_size[1]}x{rig.image_size[0]}; model K = "
+              f"{model.features.estimator.weights_.shape[0]}, M = {model.pca.n_components_}, "
+              f"{len(model.mvrvm.relevance_)} relevance vectors; {len(motions)} x {args.frames} frames")  # fmt: skip
+        stages = dict.fromkeys(("carve", "surface+basis", "3DSC", "features", "regression"), 0.0)
+        total_e2e, n_frames, io = 0.0, 0, 0.0
+        for seq_ref in rendered:
+            sil = seq_ref.silhouettes
+            n_frames += len(sil)
+            carver = Carver(rig, seq_ref.l_res)
+            voxels, t = cpu(lambda c, frames: [c(s) for s in frames], carver, sil)
+            stages["carve"] += t
+            _, t = cpu(lambda frames: [basis_indices(v[surface_mask(v)], 200, 0) for v in frames], voxels)
+            stages["surface+basis"] += t
+            descriptors, t = cpu(predict.describe, model, seq_ref)
+            stages["3DSC"] += t
+            (features, counts), t = cpu(predict.featurise, model, descriptors)
+            stages["features"] += t
+            _, t = cpu(predict.regress, model, features, counts > 0)
+            stages["regression"] += t
+            seq, t_carve = cpu(predict.carve, model, iter(sil), rig)
+            _, t_rest = cpu(predict.predict_voxels, model, seq)
+            total_e2e += t_carve + t_rest
+            folder = Path(tmp) / "sil"
+            write_silhouette_folder(sil[:10], rig, folder)
+            _, t = cpu(lambda f: list(iter_silhouette_folder(f, rig)), folder)
+            io += t / 10 * len(sil)
+    print(f"{'stage':<16} {'ms/frame':>9} {'frames/s':>9}")
+    for name, t in stages.items():
+        print(f"{name:<16} {1e3 * t / n_frames:9.2f} {n_frames / t:9.1f}")
+    t_sum = sum(stages.values())
+    print(f"{'sum of stages':<16} {1e3 * t_sum / n_frames:9.2f} {n_frames / t_sum:9.1f}")
+    print(f"{'end to end':<16} {1e3 * total_e2e / n_frames:9.2f} {n_frames / total_e2e:9.1f}   (predict.carve + "
+          f"predict.predict_voxels; target >= 50 frames/s)")  # fmt: skip
+    print(f"{'PNG reading':<16} {1e3 * io / n_frames:9.2f} {n_frames / io:9.1f}   (6 files per frame, not included)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,30 @@
+# Trained pipelines as model files for `voxpose predict` on new data: carving settings, descriptor parameters,
+# feature model, pose PCA, MVRVM and output skeleton in one versioned HDF5 file (voxpose/model_file.py).
+
+
+rule export_model:
+    input:
+        feature_model="results/features/{exp}/{rig}/{desc}/{feat}/model.h5",
+        regressor="results/runs/{exp}/{rig}/{desc}/{feat}/regressor.h5",
+        summary="results/runs/{exp}/{rig}/{desc}/{feat}/summary.json",
+        motions=lambda w: expand("results/motions/{motion}.h5", motion=EXPERIMENTS[w.exp]["train"]),
+    output:
+        "results/models/{exp}/{rig}/{desc}/{feat}/model.h5",
+    params:
+        voxels=arg(config["voxels"]),
+        descriptor=lambda w: arg(DESCRIPTORS[w.desc]),
+        regression=arg(config["regression"]),
+        seed=config["seed"],
+        name=lambda w: f"{w.exp}/{w.rig}/{w.desc}/{w.feat}",
+        code=code("model_file", "output_skeleton", "feature_model", "mvrvm", "pose_space", "store"),
+    log:
+        "results/logs/export_model/{exp}/{rig}/{desc}/{feat}.log",
+    threads: 1
+    resources:
+        mem_mb=2000,
+        runtime=5,
+    shell:
+        "voxpose export-model --feature-model {input.feature_model} --regressor {input.regressor}"
+        " --summary {input.summary} --motions {input.motions} --voxels {params.voxels}"
+        " --descriptor {params.descriptor} --regression {params.regression} --seed {params.seed}"
+        " --name {params.name} -o {output} --log {log}"
