@@ -278,3 +278,23 @@ def test_derived_cmu_file_has_no_reference_frame_left(shared_bvh_dir, tmp_path):
     motion = load_motion(path)  # the loader drops nothing more: every frame is captured motion
     assert motion.source["dropped_frames"] == 0
     assert motion.source["source_frames"] == read_bvh(src).n_frames - 1
+
+
+def test_turned_copy_rotates_every_joint_about_the_vertical_and_shifts_only_the_heading(tmp_path, generated_walk):
+    from voxpose.derived_motions import turned
+
+    source = tmp_path / "walk_src.bvh"
+    write_bvh(generated_walk, source)
+    path, provenance = derive_file(source, "turn", tmp_path, seed=0, params={"degrees": 90})
+    assert path.name == "walk_src_turn090.bvh" and provenance["parameters"] == {"degrees": 90}
+    before, after = forward_kinematics(read_bvh(source))[0], forward_kinematics(read_bvh(path))[0]
+    yaw = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-1.0, 0.0, 0.0]])  # Ry(90): x -> -z, z -> x
+    np.testing.assert_allclose(after, before @ yaw.T, atol=2e-5)  # BVH text keeps limited digits
+    a, b = load_motion(source), load_motion(path)
+    heading = (b.angles[:, 0] - a.angles[:, 0] + 180) % 360 - 180
+    np.testing.assert_allclose(heading, 90.0, atol=1e-3)
+    np.testing.assert_allclose(b.angles[:, 1:], a.angles[:, 1:], atol=1e-3)
+    with pytest.raises(VoxposeError, match="degrees"):
+        turned(generated_walk, degrees=float("nan"))
+    with pytest.raises(VoxposeError, match="'degrees' is required"):
+        derive_file(source, "turn", tmp_path, seed=0)

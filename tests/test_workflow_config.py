@@ -99,8 +99,12 @@ def test_bvh_dir_errors(tmp_path):
 
 def test_derived_source_must_exist():
     assert wc.derived_motions([{"kind": "spiral", "source": "walk_a"}], ["walk_a"]) == {
-        "spiral_walk_a": ("spiral", "walk_a")
+        "spiral_walk_a": ("spiral", "walk_a", {})
     }
+    turn = wc.derived_motions([{"kind": "turn", "source": "jog_b", "degrees": 90}], ["jog_b"])
+    assert turn == {"jog_b_turn090": ("turn", "jog_b", {"degrees": 90})}
+    with pytest.raises(VoxposeError, match=r"derived.0: a turn needs 'degrees'"):
+        wc.derived_motions([{"kind": "turn", "source": "jog_b"}], ["jog_b"])
     with pytest.raises(VoxposeError, match=r"config key derived.0.source: no motion named 'walk_z'"):
         wc.derived_motions([{"kind": "spiral", "source": "walk_z"}], ["walk_a"])
 

@@ -47,20 +47,22 @@ def _generate(args):
 
 
 def _derive_args(p):
-    p.add_argument("source", help="a real straight walk (BVH)")
-    p.add_argument("--kind", required=True, choices=["spiral", "drunk"])
+    p.add_argument("source", help="a real motion (BVH): a straight walk for spiral and drunk")
+    p.add_argument("--kind", required=True, choices=["spiral", "drunk", "turn"])
     p.add_argument("--seed", type=int, required=True)
+    p.add_argument("--params", default="{}", help='JSON: transform parameters, e.g. {"degrees": 180} for turn')
     _out(p)
 
 
 def _derive(args):
-    from .derived_motions import derive_file
+    from .derived_motions import derive_file, derived_name
 
     out = Path(args.output)
-    expected = f"{args.kind}_{Path(args.source).stem}.bvh"
+    params = _params(args.params)
+    expected = f"{derived_name(args.kind, Path(args.source).stem, params)}.bvh"
     if out.name != expected:
-        raise VoxposeError(f"-o {out}: a derived {args.kind} walk of {args.source} must be named {expected}")
-    _, provenance = derive_file(args.source, args.kind, out.parent, args.seed)
+        raise VoxposeError(f"-o {out}: a derived {args.kind} motion of {args.source} must be named {expected}")
+    _, provenance = derive_file(args.source, args.kind, out.parent, args.seed, params)
     log.info("derived %s: %s", out, json.dumps(provenance))
 
 
@@ -416,7 +418,7 @@ def _gallery(args):
 
 COMMANDS = {
     "generate": ("write one motion of the embedded default set as BVH", _generate_args, _generate),
-    "derive": ("derive a spiral or drunken walk from a real straight walk (BVH)", _derive_args, _derive),
+    "derive": ("derive a spiral or drunken walk, or a turned copy, from a real motion (BVH)", _derive_args, _derive),
     "motion": ("BVH -> canonical 42-angle poses (HDF5)", _motion_args, _motion),
     "rig": ("write the calibration file of the configured camera rig", _rig_args, _rig),
     "voxelize": ("motion -> body model -> silhouettes -> carved voxels (HDF5)", _voxelize_args, _voxelize),

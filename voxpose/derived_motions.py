@@ -56,7 +56,7 @@ from .motion_generator import GRAVITY, random_walk_heading, smooth_noise, spiral
 from .motion_loader import count_reference_frames, infer_unit, standing_height
 from .rotations import axis_angle_to_matrix, axis_rotation, euler_to_matrix, matrix_to_euler, unwrap_degrees
 
-KINDS = ("spiral", "drunk")
+KINDS = ("spiral", "drunk", "turn")
 LEAN_JOINT_NAMES = ("spine", "lowerback", "chest", "spine1")
 MIN_WALK_M = 1.0  # the source must travel at least this far (metres)
 
@@ -247,24 +247,62 @@ def drunk_from_walk(
     return Bvh(joints=bvh.joints, frame_time=bvh.frame_time, motion=motion)
 
 
-def derive_file(src, kind: str, out_dir, seed, params: dict | None = None) -> tuple[Path, dict]:
-    """Write ``{out_dir}/{kind}_{stem}.bvh`` derived from the walk ``src``; returns (path, provenance).
+def turned(bvh: Bvh, *, degrees: float, source: str = "BVH") -> Bvh:
+    """The whole motion turned by ``degrees`` about the vertical axis through the origin (any motion).
 
-    ``kind`` is ``spiral`` or ``drunk``; ``params`` are passed to the transform (its keyword arguments).
+    World-aligned descriptors (Section 4) make a regressor recognise only the headings its training
+    frames cover, and captured walks mostly go one way; turned copies of training motions fill the
+    circle. Like the other transforms it acts through the root channels alone (R_root' = Ry R_root,
+    p_root' = Ry p_root), so the captured body motion is unchanged.
+    """
+    if isinstance(degrees, bool) or not (isinstance(degrees, int | float) and np.isfinite(degrees)):
+        raise VoxposeError(f"{source}: turn degrees must be a number, got {degrees!r}")
+    bvh = captured_frames(bvh, source)
+    pos_cols, rot_cols = joint_columns(bvh, 0)
+    if pos_cols is None or rot_cols is None:
+        raise VoxposeError(f"{source}: root joint {bvh.joints[0].name!r} needs 3 position and 3 rotation channels")
+    _, rotations, _ = forward_kinematics(bvh)
+    yaw = axis_rotation("Y", float(degrees))
+    motion = bvh.motion.copy()
+    motion[:, pos_cols] = bvh.motion[:, pos_cols] @ yaw.T
+    turned_root = np.einsum("ab,fbc->fac", yaw, rotations[:, 0])
+    motion[:, rot_cols] = unwrap_degrees(matrix_to_euler(turned_root, rotation_order(bvh.joints[0])), axis=0)
+    return Bvh(joints=bvh.joints, frame_time=bvh.frame_time, motion=motion)
+
+
+def derived_name(kind: str, stem: str, params: dict | None = None) -> str:
+    """File stem of a derived motion: ``spiral_<stem>``, ``drunk_<stem>`` (the type prefix the workflow
+    reads) or ``<stem>_turnDDD`` (a turned copy keeps its source's type)."""
+    if kind == "turn":
+        return f"{stem}_turn{int(round((params or {}).get('degrees', 0))) % 360:03d}"
+    return f"{kind}_{stem}"
+
+
+def derive_file(src, kind: str, out_dir, seed, params: dict | None = None) -> tuple[Path, dict]:
+    """Write ``{out_dir}/{derived_name}.bvh`` derived from ``src``; returns (path, provenance).
+
+    ``kind`` is ``spiral`` or ``drunk`` (``src`` a walk) or ``turn`` (any motion; ``params`` must give
+    ``degrees``); ``params`` are passed to the transform (its keyword arguments).
     """
     src = Path(src)
     if kind not in KINDS:
         raise VoxposeError(f"derive: unknown derived motion {kind!r} (known: {', '.join(KINDS)})")
     params = dict(params or {})
-    transform = spiral_from_walk if kind == "spiral" else drunk_from_walk
-    allowed = set(transform.__kwdefaults__) - {"seed", "source"}
+    transform = {"spiral": spiral_from_walk, "drunk": drunk_from_walk, "turn": turned}[kind]
+    allowed = set(transform.__kwdefaults__ or {}) | ({"degrees"} if kind == "turn" else set())
+    allowed -= {"seed", "source"}
     unknown = sorted(set(params) - allowed)
     if unknown:
         raise VoxposeError(f"derive {kind}: unknown parameter(s) {unknown} (known: {sorted(allowed)})")
     bvh = read_bvh(src)
-    params.setdefault("unit", infer_walk_unit(bvh, str(src)))
-    derived = transform(bvh, seed=seed, source=str(src), **params)
-    path = Path(out_dir) / f"{kind}_{src.stem}.bvh"
+    if kind == "turn":
+        if "degrees" not in params:
+            raise VoxposeError(f"derive turn of {src}: parameter 'degrees' is required")
+        derived = turned(bvh, source=str(src), **params)
+    else:
+        params.setdefault("unit", infer_walk_unit(bvh, str(src)))
+        derived = transform(bvh, seed=seed, source=str(src), **params)
+    path = Path(out_dir) / f"{derived_name(kind, src.stem, params)}.bvh"
     write_bvh(derived, path)
     provenance = {
         "derived_from": str(src),

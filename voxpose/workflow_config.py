@@ -37,13 +37,21 @@ def generated_motions(spec: dict) -> dict:
 
 
 def derived_motions(derived: list, source_names) -> dict:
-    """Derived motion names -> (kind, source): ``spiral_<source>``; the source must be a known motion."""
+    """Derived motion names -> (kind, source, params): ``spiral_<source>``, ``drunk_<source>`` or
+    ``<source>_turnDDD`` (``derived_motions.derived_name``); the source must be a known motion."""
+    from .derived_motions import derived_name
+
     out = {}
     source_names = set(source_names)
     for i, item in enumerate(derived):
         if item["source"] not in source_names:
             raise VoxposeError(f"config key derived.{i}.source: no motion named {item['source']!r} in bvh_dir")
-        out[f"{item['kind']}_{item['source']}"] = (item["kind"], item["source"])
+        params = {k: v for k, v in item.items() if k not in ("kind", "source")}
+        if item["kind"] == "turn" and "degrees" not in params:
+            raise VoxposeError(f"config key derived.{i}: a turn needs 'degrees'")
+        if item["kind"] != "turn" and params:
+            raise VoxposeError(f"config key derived.{i}: {item['kind']} takes no {', '.join(sorted(params))}")
+        out[derived_name(item["kind"], item["source"], params)] = (item["kind"], item["source"], params)
     return out
 
 

@@ -26,6 +26,7 @@ rule derive_bvh:
         "results/bvh/derived/{motion}.bvh",
     params:
         kind=lambda w: DERIVED[w.motion][0],
+        cfg=lambda w: arg(DERIVED[w.motion][2]),
         seed=config["seed"],
         code=code("derived_motions", "bvh"),
     log:
@@ -35,7 +36,7 @@ rule derive_bvh:
         mem_mb=1000,
         runtime=5,
     shell:
-        "voxpose derive --kind {params.kind} --seed {params.seed} {input} -o {output} --log {log}"
+        "voxpose derive --kind {params.kind} --params {params.cfg} --seed {params.seed} {input} -o {output} --log {log}"
 
 
 rule motion:
