@@ -7,7 +7,16 @@ import pytest
 from conftest import random_motion
 
 import voxpose.bvh as bvh_module
-from voxpose.bvh import Bvh, BvhJoint, channel_slices, joint_columns, read_bvh, rotation_order, write_bvh
+from voxpose.bvh import (
+    Bvh,
+    BvhJoint,
+    channel_slices,
+    joint_columns,
+    read_bvh,
+    read_duration,
+    rotation_order,
+    write_bvh,
+)
 from voxpose.errors import VoxposeError
 
 SMALL = """HIERARCHY
@@ -54,6 +63,16 @@ def test_parse_small_file(tmp_path):
     assert b.frame_time == pytest.approx(0.0083333)
     assert b.motion.shape == (2, 15) and b.motion.dtype == np.float64
     assert b.motion[1, 0] == -1 and b.motion[0, 10] == 1.5
+
+
+def test_read_duration_matches_the_full_parse(tmp_path):
+    path = write(tmp_path, SMALL)
+    full = read_bvh(path)
+    assert read_duration(path) == (full.motion.shape[0], full.frame_time)
+    with pytest.raises(VoxposeError, match="no MOTION section"):
+        read_duration(write(tmp_path, SMALL.split("MOTION")[0], "cut.bvh"))
+    with pytest.raises(VoxposeError, match="Frames: expected a whole number"):
+        read_duration(write(tmp_path, SMALL.replace("Frames:\t2", "Frames:\ttwo"), "bad.bvh"))
 
 
 def test_channel_helpers(tmp_path):

@@ -254,8 +254,8 @@ def _header_value(path, lines, index: int, words: tuple[str, ...]) -> tuple[str,
     return parts[-1], index + 1
 
 
-def _parse_motion(path, lines: list[str], start: int, n_channels: int) -> tuple[float, np.ndarray]:
-    """Parse the MOTION part; ``start`` is the index of the line after ``MOTION``."""
+def _motion_header(path, lines: list[str], start: int) -> tuple[int, float, int]:
+    """``(Frames, Frame Time, index of the first frame line)``; ``start`` is the index of the line after MOTION."""
     value, index = _header_value(path, lines, start, ("Frames:",))
     if not (value.isascii() and value.isdigit()):
         raise VoxposeError(f"{path}:{index}: Frames: expected a whole number, found {value!r}")
@@ -264,6 +264,12 @@ def _parse_motion(path, lines: list[str], start: int, n_channels: int) -> tuple[
     frame_time = _number(value, lambda m: VoxposeError(f"{path}:{index}: Frame Time: {m}"))
     if frame_time <= 0:
         raise VoxposeError(f"{path}:{index}: Frame Time must be positive, got {value}")
+    return n_frames, frame_time, index
+
+
+def _parse_motion(path, lines: list[str], start: int, n_channels: int) -> tuple[float, np.ndarray]:
+    """Parse the MOTION part; ``start`` is the index of the line after ``MOTION``."""
+    n_frames, frame_time, index = _motion_header(path, lines, start)
     rows = [(n + 1, line) for n, line in enumerate(lines[index:], start=index) if line.strip()]
     if len(rows) < n_frames:
         last = rows[-1][0] if rows else index
@@ -304,6 +310,28 @@ def read_bvh(path) -> Bvh:
     n_channels = sum(len(j.channels) for j in joints)
     frame_time, motion = _parse_motion(path, lines, motion_line + 1, n_channels)
     return Bvh(joints=joints, frame_time=frame_time, motion=motion)
+
+
+def read_duration(path) -> tuple[int, float]:
+    """``(Frames, Frame Time)`` of a BVH file from its header alone, without reading the frames.
+
+    Cheap enough to size workflow jobs before they run (``workflow/rules/common.smk``); same errors as ``read_bvh``.
+    """
+    path = Path(path)
+    lines = []
+    try:
+        with open(path, encoding="utf-8", errors="replace") as f:
+            for line in f:
+                lines.append(line.rstrip("\n"))
+                if line.split()[:2] == ["Frame", "Time:"]:
+                    break
+    except OSError as err:
+        raise VoxposeError(f"{path}: cannot read BVH file: {err.strerror or err}") from None
+    motion_line = next((n for n, line in enumerate(lines) if line.split()[:1] == ["MOTION"]), None)
+    if motion_line is None:
+        raise VoxposeError(f"{path}:{len(lines)}: no MOTION section")
+    n_frames, frame_time, _ = _motion_header(path, lines, motion_line + 1)
+    return n_frames, frame_time
 
 
 def _check_writable(bvh: Bvh) -> None:

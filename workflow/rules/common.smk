@@ -1,12 +1,15 @@
 # Helpers shared by all rules: config validation, the motion list, experiments, parameter-set tags.
 # All logic lives in voxpose.workflow_config (tested); this file only binds it to the workflow.
 
+import functools
 import json
+import math
 import shlex
 import sys
 from pathlib import Path
 
 import voxpose
+from voxpose.bvh import read_duration
 from voxpose.errors import VoxposeError
 from voxpose import workflow_config as wc
 
@@ -77,6 +80,34 @@ wildcard_constraints:
     desc=r"[^/]+",
     feat=r"[^/]+",
     exp=r"[A-Za-z0-9_]+",
+
+
+# Resources (issue 9). Every rule sets threads, mem_mb (MB) and runtime (minutes) with one of the two helpers below,
+# as `(base + slope * size) * attempt`: `base` covers the interpreter and fixed-size state, `slope` the part that grows
+# with the data; `attempt` doubles the request when a cluster job killed for memory or time is retried (profile
+# `retries`). Both numbers come from benchmarks/rule_resources.py (peak RSS and wall time per job against input size),
+# with headroom; profiles/README.md records the measurements. Rules in the `per_motion` group use by_frames, because
+# a batch is submitted before its members' inputs exist; every other rule uses by_input.
+
+
+@functools.cache
+def motion_frames(motion):
+    """Frames a motion has once loaded (resampled to motions.fps), known before any of its jobs run: from the
+    config for generated motions, from the BVH header otherwise (a derived motion has its source's duration)."""
+    if motion in GENERATED:
+        return GENERATED[motion][2]
+    n_frames, frame_time = read_duration(SOURCE_BVH[DERIVED[motion][1]] if motion in DERIVED else SOURCE_BVH[motion])
+    return math.ceil(n_frames * frame_time * config["motions"]["fps"])
+
+
+def by_frames(base, per_frame):
+    """``(base + per_frame * frames of the job's motion) * attempt``, for the per-motion rules."""
+    return lambda wildcards, attempt: math.ceil((base + per_frame * motion_frames(wildcards.motion)) * attempt)
+
+
+def by_input(base, per_input_mb=0):
+    """``(base + per_input_mb * total input MB) * attempt``, for rules whose inputs exist when they are submitted."""
+    return lambda wildcards, input, attempt: math.ceil((base + per_input_mb * input.size_mb) * attempt)
 
 
 def code(*modules):

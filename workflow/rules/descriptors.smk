@@ -11,9 +11,10 @@ rule describe:
         code=code("shape_context", "shape_context_lut", "store"),
     log:
         "results/logs/describe/{rig}/{desc}/{motion}.log",
-    threads: 2  # frames are described by a thread pool (numpy and scipy release the GIL)
+    group: "per_motion"  # batched into one cluster job per few motions (profiles/slurm)
+    threads: 1  # motions are described side by side; `voxpose describe --threads N` pools frames instead
     resources:
-        mem_mb=2000,
-        runtime=lambda w, input: 5 + int(input.size_mb),
+        mem_mb=by_frames(300, 2),
+        runtime=by_frames(5, 0.005),
     shell:
         "voxpose describe {input} --params {params.cfg} -o {output} --log {log} --threads {threads}"

@@ -16,8 +16,8 @@ rule fit_features:
         "results/logs/fit_features/{exp}/{rig}/{desc}/{feat}.log",
     threads: 2
     resources:
-        mem_mb=6000,
-        runtime=60,
+        mem_mb=by_input(1000, 8),
+        runtime=by_input(60, 0.2),
     shell:
         "voxpose fit-features --method {params.method} --params {params.cfg} --seed {params.seed}"
         " -o {output} --log {log} --threads {threads} {input}"
@@ -35,7 +35,7 @@ rule features:
         "results/logs/features/{exp}/{rig}/{desc}/{feat}.log",
     threads: 2
     resources:
-        mem_mb=4000,
-        runtime=30,
+        mem_mb=by_input(500, 1),
+        runtime=by_input(10, 0.1),
     shell:
         "voxpose features {input.model} -o {output} --log {log} --threads {threads} {input.descriptors}"

@@ -34,8 +34,8 @@ rule gallery:
         "results/logs/gallery.log",
     threads: 1
     resources:
-        mem_mb=2000,
-        runtime=5,
+        mem_mb=by_input(500, 20),
+        runtime=by_input(5, 1),
     shell:
         "voxpose gallery {input.predictions} -o {output} --log {log} {input.voxels}"
 

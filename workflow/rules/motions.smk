@@ -10,10 +10,11 @@ rule generate_bvh:
         code=code("motion_generator", "bvh"),
     log:
         "results/logs/generate_bvh/{motion}.log",
+    group: "per_motion"  # batched into one cluster job per few motions (profiles/slurm)
     threads: 1
     resources:
-        mem_mb=500,
-        runtime=5,
+        mem_mb=by_frames(250, 0.1),
+        runtime=by_frames(2, 0.01),
     shell:
         "voxpose generate --kind {params.spec[0]} --index {params.spec[1]} --frames {params.spec[2]}"
         " --seed {params.seed} -o {output} --log {log}"
@@ -31,10 +32,11 @@ rule derive_bvh:
         code=code("derived_motions", "bvh"),
     log:
         "results/logs/derive_bvh/{motion}.log",
+    group: "per_motion"  # batched into one cluster job per few motions (profiles/slurm)
     threads: 1
     resources:
-        mem_mb=1000,
-        runtime=5,
+        mem_mb=by_frames(250, 0.2),
+        runtime=by_frames(2, 0.01),
     shell:
         "voxpose derive --kind {params.kind} --params {params.cfg} --seed {params.seed} {input} -o {output} --log {log}"
 
@@ -49,9 +51,10 @@ rule motion:
         code=code("motion_loader", "bvh", "kinematics", "joint_map", "canonical_pose", "rotations", "store"),
     log:
         "results/logs/motion/{motion}.log",
+    group: "per_motion"  # batched into one cluster job per few motions (profiles/slurm)
     threads: 1
     resources:
-        mem_mb=lambda w, input: 500 + int(40 * input.size_mb),
-        runtime=5,
+        mem_mb=by_frames(200, 0.1),
+        runtime=by_frames(2, 0.01),
     shell:
         "voxpose motion {input} -o {output} --params {params.cfg} --log {log}"

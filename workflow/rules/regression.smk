@@ -20,8 +20,8 @@ rule regress:
         "results/logs/regress/{exp}/{rig}/{desc}/{feat}.log",
     threads: 1  # the MVRVM's moves are sequential; two experiments fit side by side instead
     resources:
-        mem_mb=4000,
-        runtime=60,
+        mem_mb=by_input(1000, 50),
+        runtime=by_input(30, 5),
     shell:
         "voxpose regress {input.features} --train {params.train} --test {params.test}"
         " --params {params.cfg} --seed {params.seed} --model {output.model} --predictions {output.predictions}"

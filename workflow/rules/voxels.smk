@@ -32,10 +32,11 @@ rule voxelize:
         code=code("voxelize", "body", "cameras", "render", "carve", "surface", "store"),
     log:
         "results/logs/voxelize/{rig}/{motion}.log",
+    group: "per_motion"  # batched into one cluster job per few motions (profiles/slurm)
     threads: 1
     resources:
-        mem_mb=2000,
-        runtime=lambda w, input: 5 + int(2 * input.size_mb),
+        mem_mb=by_frames(300, 0.4),
+        runtime=by_frames(5, 0.005),
     shell:
         "voxpose voxelize {input.motion} --rig {input.rig} --params {params.cfg} --seed {params.seed}"
         " -o {output} --log {log}"
