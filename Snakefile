@@ -17,6 +17,7 @@ include: "workflow/rules/features.smk"
 include: "workflow/rules/regression.smk"
 include: "workflow/rules/evaluation.smk"
 include: "workflow/rules/figures.smk"
+include: "workflow/rules/claims.smk"
 
 
 report: "workflow/report/workflow.rst"
