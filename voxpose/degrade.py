@@ -2,8 +2,8 @@
 
 The paper argues that voxels make the regressor robust on real data; these degradations let us measure it on
 synthetic data whose ground truth is known. Each is deterministic per seed: a frame's random draws come from
-``numpy.random.default_rng([seed, kind, frame])``, so a frame's degradation does not depend on the frames
-processed before it. Kinds and what their ``level`` means (``none``, level 0: the clean silhouettes):
+``numpy.random.default_rng([seed, kind, 0, frame])`` (a sequence's from ``[seed, kind, 1]``), so a frame's
+degradation does not depend on the frames processed before it. Kinds and what their ``level`` means (``none``, level 0: the clean silhouettes):
 
 ``flip``
     Boundary noise: every pixel within ``band_px`` pixels (Euclidean) of the silhouette's boundary, inside or
@@ -126,8 +126,10 @@ class Degradation:
         if self.band_px < 1:
             raise VoxposeError(f"degradation: band_px must be at least 1, got {self.band_px!r}")
 
-    def _rng(self, frame: int):
-        return np.random.default_rng([self.seed, _KIND_CODE[self.kind], frame])
+    def _rng(self, frame: int | None):
+        """Draws of one frame, or (``None``) of the whole sequence."""
+        stream = [1] if frame is None else [0, frame]
+        return np.random.default_rng([self.seed, _KIND_CODE[self.kind], *stream])
 
     def apply(self, frame: int, sil: np.ndarray, ellipsoids: Ellipsoids, rig: Rig) -> np.ndarray:
         """Degraded silhouettes (C, H, W) of frame ``frame`` (its body model ``ellipsoids``, seen by ``rig``)."""
@@ -143,7 +145,7 @@ class Degradation:
         """The rig the carving uses: ``rig`` itself, or with one camera rotated (``calibration``)."""
         if self.kind != "calibration":
             return rig
-        rng = self._rng(-1)
+        rng = self._rng(None)
         camera = int(rng.integers(len(rig)))
         axis = rng.normal(size=3)
         cameras = list(rig.cameras)
