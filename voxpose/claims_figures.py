@@ -63,7 +63,7 @@ def camera_figure(table: pd.DataFrame):
     ax.set_xticks(x, labels, fontsize=8)
     ax.set_ylabel("full-body RMS error (deg)")
     ax.grid(axis="y", alpha=0.3)
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=2, frameon=False)
     fig.tight_layout()
     return fig
 

@@ -3,7 +3,8 @@
 The paper argues that voxels make the regressor robust on real data; these degradations let us measure it on
 synthetic data whose ground truth is known. Each is deterministic per seed: a frame's random draws come from
 ``numpy.random.default_rng([seed, kind, 0, frame])`` (a sequence's from ``[seed, kind, 1]``), so a frame's
-degradation does not depend on the frames processed before it. Kinds and what their ``level`` means (``none``, level 0: the clean silhouettes):
+degradation does not depend on the frames processed before it. Kinds and what their ``level`` means (``none``,
+level 0: the clean silhouettes):
 
 ``flip``
     Boundary noise: every pixel within ``band_px`` pixels (Euclidean) of the silhouette's boundary, inside or
