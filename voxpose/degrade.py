@@ -64,9 +64,14 @@ def flip_boundary(sil: np.ndarray, probability: float, band_px: int, rng) -> np.
     """Silhouettes (C, H, W) with each pixel of every view's boundary band flipped with ``probability``."""
     out = sil.copy()
     for c, mask in enumerate(sil):
-        band = boundary_band(mask, band_px)
-        flip = band & (rng.random(mask.shape) < probability)
-        out[c] ^= flip
+        rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
+        if rows.size == 0:
+            continue
+        # the band lies within band_px of the silhouette's bounding box: work on that window only
+        r0, c0 = max(rows[0] - band_px - 1, 0), max(cols[0] - band_px - 1, 0)
+        window = np.s_[r0 : rows[-1] + band_px + 2, c0 : cols[-1] + band_px + 2]
+        band = boundary_band(mask[window], band_px)
+        out[c][window] ^= band & (rng.random(band.shape) < probability)
     return out
 
 
