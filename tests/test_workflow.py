@@ -12,6 +12,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -64,6 +65,10 @@ def test_quick_run_writes_every_artifact(workflow_dir):
         "figures/error_over_time.png",
         "models/table1/circle6-quick/R0.3333-r2-4x5x10-soft/mppca-K16-q3/model.h5",
         "models/table2/circle6-quick/R0.3333-r2-4x5x10-soft/mppca-K16-q3/model.h5",
+        "figures/camera_rigs.png",
+        "tables/camera_rigs.csv",
+        "figures/robustness.png",
+        "tables/robustness.csv",
     ):
         assert (workflow_dir / "results" / name).stat().st_size > 0, name
     t1 = pd.read_csv(workflow_dir / "results/tables/table1.csv")
@@ -82,6 +87,23 @@ def test_quick_run_writes_every_artifact(workflow_dir):
     for col in ("regular walking", "drunken walking", "spiral walking", "jogging", "jump"):
         assert 0 < measured[col] < 60
     assert 0 < measured["relevance vectors"] < measured["training frames"]
+
+
+
+def test_claims_artifacts(workflow_dir):
+    t1 = pd.read_csv(workflow_dir / "results/tables/table1.csv")
+    at = t1[t1["method"].str.startswith("Agarwal & Triggs-style")]
+    assert len(at) == 2 and (at["source"] == "voxpose (measured)").all() and (at["test frames"] == 40).all()
+    rigs = pd.read_csv(workflow_dir / "results/tables/camera_rigs.csv").set_index(["rig", "series"])["error (deg)"]
+    # the stored regressor applied to the default rig's test features reproduces the run that trained it
+    assert rigs[("circle6-quick", "trained on circle6-quick, not retrained (voxels)")] == pytest.approx(
+        rigs[("circle6-quick", "retrained on this rig (voxels)")]
+    )
+    # the multi-view A&T features do not exist on a rig with another number of cameras
+    assert np.isnan(rigs[("circle4-quick", "A&T, 6 views concatenated, trained on circle6-quick")])
+    robust = pd.read_csv(workflow_dir / "results/tables/robustness.csv")
+    assert set(robust["kind"]) == {"flip", "morph", "limb", "calibration"}
+    assert robust["error (deg)"].between(0, 60).all()
 
 
 def test_nothing_changed_reruns_nothing(workflow_dir):

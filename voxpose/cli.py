@@ -27,7 +27,7 @@ def _setup_logging(log_file) -> None:
 
 
 # Modules that define subcommands, each with a ``COMMANDS`` dict {name: (help, add_arguments, run)}.
-COMMAND_MODULES = ("commands", "commands_predict")
+COMMAND_MODULES = ("commands", "commands_predict", "commands_claims")
 
 
 def _commands():

@@ -326,6 +326,8 @@ def _table_args(which):
         if which == 1:
             p.add_argument("--ours", required=True, help="summary.json of MPPCA + MVRVM")
             p.add_argument("--kmeans", required=True, help="summary.json of K-means + MVRVM")
+            p.add_argument("--at-one", help="summary.json of the Agarwal & Triggs-style run on one camera")
+            p.add_argument("--at-all", help="summary.json of the Agarwal & Triggs-style run on all cameras")
         else:
             p.add_argument("--summary", required=True, help="summary.json of the five-type regressor")
         p.add_argument("--csv", required=True)
@@ -335,9 +337,11 @@ def _table_args(which):
 
 
 def _table1(args):
-    from .tables import read_summary, table1, write_table
+    from .tables import AT_ALL_LABEL, AT_ONE_LABEL, read_summary, table1, write_table
 
-    df = table1(read_summary(args.ours), read_summary(args.kmeans))
+    at = {label: read_summary(path) for label, path in ((AT_ONE_LABEL, args.at_one), (AT_ALL_LABEL, args.at_all))
+          if path}  # fmt: skip
+    df = table1(read_summary(args.ours), read_summary(args.kmeans), at)
     write_table(df, args.csv, args.md, "Table 1: RMS error (degrees) on the held-out spiral walk")
 
 

@@ -19,6 +19,7 @@ import numpy as np
 from . import canon, metrics, pose_encoding
 from .baselines import KernelRidge, MeanPose, NearestNeighbour
 from .errors import VoxposeError
+from .kernels import design_matrix
 from .mvrvm import MVRVM, select_kernel_width
 from .pose_space import PosePCA
 
@@ -88,6 +89,46 @@ def _errors(true, pred, offsets_per_frame, kinds) -> dict:
     return out
 
 
+def evaluate(predict: dict, features: dict, motions: dict, test: list):
+    """Predictions and errors of each method on the ``test`` motions' frames that have features.
+
+    ``predict``: method -> function from features (n, K) to the 42 angles (n, 42). Returns
+    (predictions: motion -> {"true", "valid", "offsets", "root_positions", "pred_<method>",
+    "frame_error_<method>"}, {"test_frames", "test_gaps", "methods": method -> errors}).
+    """
+    predictions, true_all, pred_all, kinds, spans = {}, [], {m: [] for m in predict}, [], []
+    start = 0
+    for name in test:
+        if name not in features:
+            raise VoxposeError(f"no features for motion {name!r}")
+        motion = motions[name]
+        valid = features[name]["counts"] > 0
+        x = features[name]["features"][valid]
+        entry = {"true": motion.angles, "valid": valid, "offsets": motion.offsets,
+                 "root_positions": motion.positions[:, 0]}  # fmt: skip
+        for method, fn in predict.items():
+            pred = fn(x)
+            full = np.full_like(motion.angles, np.nan)
+            full[valid] = pred
+            entry[f"pred_{method}"] = full
+            err = np.full(motion.n_frames, np.nan)
+            err[valid] = metrics.frame_errors(motion.angles[valid], pred)
+            entry[f"frame_error_{method}"] = err
+            pred_all[method].append(pred)
+        predictions[name] = entry
+        true_all.append(motion.angles[valid])
+        kinds += [motion.kind] * int(valid.sum())
+        spans.append((motion.offsets, np.arange(start, start + int(valid.sum()))))
+        start += int(valid.sum())
+    true = np.concatenate(true_all)
+    kinds = np.array(kinds)
+    return predictions, {
+        "test_frames": len(true),
+        "test_gaps": int(sum((~p["valid"]).sum() for p in predictions.values())),
+        "methods": {m: _errors(true, np.concatenate(pred_all[m]), spans, kinds) for m in predict},
+    }
+
+
 def run(features: dict, motions: dict, train: list, test: list, cfg: dict, seed: int) -> RunResult:
     """Fit on ``train`` motions and evaluate on ``test`` motions.
 
@@ -123,42 +164,21 @@ def run(features: dict, motions: dict, train: list, test: list, cfg: dict, seed:
         "kernel_ridge": KernelRidge(kernel_width=model.kernel_width_, random_state=seed).fit(x_train, z_train),
     }
 
-    predictions, true_all, pred_all, kinds, spans = {}, [], {m: [] for m in METHODS}, [], []
-    start = 0
-    for name in test:
-        motion = motions[name]
-        valid = features[name]["counts"] > 0
-        x = features[name]["features"][valid]
-        entry = {"true": motion.angles, "valid": valid, "offsets": motion.offsets,
-                 "root_positions": motion.positions[:, 0]}  # fmt: skip
-        for method in METHODS:
-            if method == "mvrvm":
-                pred = pca.inverse_transform(model.predict(x))
-            elif method == "kernel_ridge":
-                pred = pca.inverse_transform(baselines[method].predict(x))
-            else:
-                pred = baselines[method].predict(x)
-            pred = pose_encoding.decode(pred, heading)
-            full = np.full_like(motion.angles, np.nan)
-            full[valid] = pred
-            entry[f"pred_{method}"] = full
-            err = np.full(motion.n_frames, np.nan)
-            err[valid] = metrics.frame_errors(motion.angles[valid], pred)
-            entry[f"frame_error_{method}"] = err
-            pred_all[method].append(pred)
-        predictions[name] = entry
-        true_all.append(motion.angles[valid])
-        kinds += [motion.kind] * int(valid.sum())
-        spans.append((motion.offsets, np.arange(start, start + int(valid.sum()))))
-        start += int(valid.sum())
-    true = np.concatenate(true_all)
-    kinds = np.array(kinds)
+    predict = {
+        "mvrvm": lambda x: pose_encoding.decode(pca.inverse_transform(model.predict(x)), heading),
+        "mean_pose": lambda x: pose_encoding.decode(baselines["mean_pose"].predict(x), heading),
+        "nearest_neighbour": lambda x: pose_encoding.decode(baselines["nearest_neighbour"].predict(x), heading),
+        "kernel_ridge": lambda x: pose_encoding.decode(
+            pca.inverse_transform(baselines["kernel_ridge"].predict(x)), heading
+        ),
+    }
+    predictions, test_summary = evaluate(predict, features, motions, test)
     summary = {
         "train": train,
         "test": test,
         "train_frames": len(x_train),
-        "test_frames": len(true),
-        "test_gaps": int(sum((~p["valid"]).sum() for p in predictions.values())),
+        "test_frames": test_summary["test_frames"],
+        "test_gaps": test_summary["test_gaps"],
         "pose_dims": int(pca.n_components_),
         "pose_variance": float(pca.explained_variance_ratio_.sum()),
         "n_relevance": len(model.relevance_),
@@ -169,10 +189,31 @@ def run(features: dict, motions: dict, train: list, test: list, cfg: dict, seed:
             "converged": bool(model.converged_),
             "noise_std": (1 / np.sqrt(model.beta_)).tolist(),
         },  # fmt: skip
-        "methods": {m: _errors(true, np.concatenate(pred_all[m]), spans, kinds) for m in METHODS},
+        "methods": test_summary["methods"],
     }
     for m in METHODS:
         log.info("%s: full body %.2f deg, heading %.2f, left shoulder %.2f, right hip %.2f, %.0f mm", m,
                  *(summary["methods"][m][k] for k in ("full_body", "heading", "left_shoulder", "right_hip",
                                                       "position_mm")))  # fmt: skip
     return RunResult(pca, model, predictions, summary)
+
+
+def stored_predictors(arrays: dict, meta: dict, heading: str) -> dict:
+    """MVRVM and mean-pose predictors (as in ``evaluate``) of a regressor file written by ``voxpose regress``.
+
+    The MVRVM's posterior mean is ``phi(x) coef`` with Gaussians at the stored relevance vectors (and the bias
+    when kept), mapped back through the pose PCA; the mean pose is the PCA mean. Lets one trained regressor be
+    tested on features from other camera rigs or degraded silhouettes without retraining.
+    """
+    mean, components = arrays["pca_mean"], arrays["pca_components"]
+    centres, coef = arrays["relevance_vectors"], arrays["coef"]
+    width, bias = float(meta["kernel_width"]), bool(meta["has_bias"])
+
+    def mvrvm(x):
+        coords = design_matrix(np.asarray(x, dtype=np.float64), centres, width, bias) @ coef
+        return pose_encoding.decode(coords @ components + mean, heading)
+
+    def mean_pose(x):
+        return pose_encoding.decode(np.broadcast_to(mean, (len(x), mean.size)), heading)
+
+    return {"mvrvm": mvrvm, "mean_pose": mean_pose}

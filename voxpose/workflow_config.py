@@ -120,3 +120,69 @@ def code_hash(paths) -> str:
     for path in sorted(str(p) for p in paths):
         digest.update(Path(path).read_bytes())
     return digest.hexdigest()[:16]
+
+
+# --- the measured claims (issue 8) ---------------------------------------------------------------------------
+
+_RIG_OVERRIDES = ("n_cameras", "radius", "height", "target_height", "focal_px", "width", "image_height")
+
+
+def rig_camera_count(section: dict) -> int:
+    """Number of cameras of a `rig`-style section: its calibration file's, else ``n_cameras``."""
+    if section.get("file"):
+        from .cameras import load_rig
+
+        return len(load_rig(section["file"]))
+    return int(section["n_cameras"])
+
+
+def claims_rigs(claims: dict, rig: dict) -> dict:
+    """Test rigs of ``claims.rigs`` as complete `rig` sections by name: overrides of ``rig``, or a file.
+
+    Names must be unique, differ from the default rig's and not contain ``__`` (that marks degraded sets);
+    ``claims.retrain`` may name only listed rigs.
+    """
+    out = {}
+    for i, entry in enumerate(claims["rigs"]):
+        name = entry["name"]
+        if name == rig["name"] or name in out or "__" in name:
+            why = "contains '__'" if "__" in name else "is used twice (or is the default rig's name)"
+            raise VoxposeError(f"config key claims.rigs.{i}.name: {name!r} {why}")
+        section = dict(rig, name=name, file=entry.get("file"))
+        section |= {k: entry[k] for k in _RIG_OVERRIDES if k in entry}
+        out[name] = section
+    if "__" in rig["name"]:
+        raise VoxposeError(f"config key rig.name: {rig['name']!r} must not contain '__' (it marks degraded sets)")
+    for i, name in enumerate(claims["retrain"]):
+        if name not in out:
+            raise VoxposeError(f"config key claims.retrain.{i}: {name!r} is not one of claims.rigs")
+    return out
+
+
+def degraded_sets(claims: dict, rig_name: str, n_cameras: int) -> dict:
+    """Voxel sets of the robustness study by name ``{rig}__{kind}{level}__min{views}``.
+
+    One per degradation level and carving rule ``min_views = n_cameras - k`` (k in ``claims.carving_drop``),
+    plus the clean silhouettes (kind ``none``) under each rule. Value: ``{"kind", "level", "band_px",
+    "min_views"}`` (``voxpose.degrade``).
+    """
+    out = {}
+    for i, drop in enumerate(claims["carving_drop"]):
+        views = n_cameras - drop
+        if views < 1:
+            raise VoxposeError(f"config key claims.carving_drop.{i}: {drop} leaves no view of {n_cameras}")
+        levels = [("none", 0)] + [(kind, lv) for kind, lvs in claims["degradations"].items() for lv in lvs]
+        for kind, level in levels:
+            name = f"{rig_name}__{'clean' if kind == 'none' else kind}{level:g}__min{views}"
+            out[name] = {"kind": kind, "level": level, "band_px": claims["band_px"], "min_views": views}
+    return out
+
+
+def contour_tag(cfg: dict) -> str:
+    """Readable name of a 2D shape-context parameter set (``voxpose.contour_shape_context``)."""
+    return f"sc2d-p{cfg['n_points']}-{cfg['n_r']}x{cfg['n_theta']}-r{_num(cfg['r_inner'])}-{_num(cfg['r_outer'])}"
+
+
+def at_tag(cfg: dict, cameras) -> str:
+    """Readable name of an Agarwal & Triggs codebook on one camera (an index) or ``"all"`` cameras."""
+    return f"at-K{cfg['n_centres']}-n{cfg['neighbours']}-" + ("all" if cameras == "all" else f"cam{cameras}")

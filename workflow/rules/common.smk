@@ -38,10 +38,15 @@ try:
         name: wc.resolve_experiment(name, exp, MOTIONS, EXPERIMENT_KEY)
         for name, exp in EXPERIMENT_CFG.items()
     }
+    CLAIM_RIGS = wc.claims_rigs(config["claims"], config["rig"])
+    DEGRADED = wc.degraded_sets(config["claims"], config["rig"]["name"], wc.rig_camera_count(config["rig"]))
+    if config["claims"]["experiment"] not in EXPERIMENTS:
+        raise VoxposeError(f"config key claims.experiment: no experiment named {config['claims']['experiment']!r}")
 except VoxposeError as err:
     _fail(err)
 
 RIG = config["rig"]["name"]
+RIG_SECTIONS = {RIG: config["rig"], **CLAIM_RIGS}
 DESC_CFG = config["descriptor"]
 DESC = wc.descriptor_tag(DESC_CFG)
 FEAT_CFG = config["features"]
@@ -72,6 +77,16 @@ def feature_sets():
 FEATURES = feature_sets()
 MPPCA = wc.feature_tag("mppca", FEAT_CFG)
 KMEANS = wc.feature_tag("kmeans", FEAT_CFG)
+
+# The measured claims (workflow/rules/claims.smk): 2D shape contexts and A&T codebooks live beside the 3D ones
+# (desc and feat wildcards) and degraded voxel sets beside the rigs' (rig wildcard, names with "__").
+CLAIMS = config["claims"]
+CLAIMS_EXP = CLAIMS["experiment"]
+CTX = wc.contour_tag(CLAIMS["contour"])
+AT_ONE = wc.at_tag(CLAIMS["at"], CLAIMS["at"]["camera"])
+AT_ALL = wc.at_tag(CLAIMS["at"], "all")
+NOT_DEGRADED = r"(?:(?!__)[A-Za-z0-9_.-])+"
+NOT_CONTOURS = r"(?!sc2d-)[^/]+"
 
 
 wildcard_constraints:
@@ -124,8 +139,8 @@ def experiment_motions(exp):
     return EXPERIMENTS[exp]["train"] + EXPERIMENTS[exp]["test"]
 
 
-def run_dir(exp, desc, feat):
-    return f"results/runs/{exp}/{RIG}/{desc}/{feat}"
+def run_dir(exp, desc, feat, rig=None):
+    return f"results/runs/{exp}/{rig or RIG}/{desc}/{feat}"
 
 
 def figure4_runs():
@@ -181,4 +196,8 @@ def final_targets():
         "results/figures/joint_errors.png",
         "results/figures/error_over_time.png",
         *(f"results/models/{exp}/{RIG}/{DESC}/{MPPCA}/model.h5" for exp in ("table1", "table2")),
+        "results/figures/camera_rigs.png",
+        "results/tables/camera_rigs.csv",
+        "results/figures/robustness.png",
+        "results/tables/robustness.csv",
     ]

@@ -5,6 +5,8 @@ rule table1:
     input:
         ours=run_file("table1", MPPCA, "summary.json"),
         kmeans=run_file("table1", KMEANS, "summary.json"),
+        at_one=run_file("table1", AT_ONE, "summary.json", desc=CTX),
+        at_all=run_file("table1", AT_ALL, "summary.json", desc=CTX),
     output:
         csv=report("results/tables/table1.csv", caption="../report/table1.rst", category="Tables"),
         md="results/tables/table1.md",
@@ -18,7 +20,8 @@ rule table1:
         mem_mb=500,
         runtime=2,
     shell:
-        "voxpose table1 --ours {input.ours} --kmeans {input.kmeans} --csv {output.csv} --md {output.md} --log {log}"
+        "voxpose table1 --ours {input.ours} --kmeans {input.kmeans} --at-one {input.at_one} --at-all {input.at_all}"
+        " --csv {output.csv} --md {output.md} --log {log}"
 
 
 rule table2:

@@ -7,6 +7,8 @@ rule fit_features:
         train_descriptors,
     output:
         "results/features/{exp}/{rig}/{desc}/{feat}/model.h5",
+    wildcard_constraints:
+        desc=NOT_CONTOURS,
     params:
         method=lambda w: FEATURES[w.feat][0],
         cfg=lambda w: arg(FEATURES[w.feat][1]),
@@ -29,6 +31,8 @@ rule features:
         descriptors=all_descriptors,
     output:
         "results/features/{exp}/{rig}/{desc}/{feat}/features.h5",
+    wildcard_constraints:
+        desc=NOT_CONTOURS,
     params:
         code=code("mppca", "kmeans", "frame_features", "feature_model", "store"),
     log:

@@ -3,11 +3,11 @@
 
 rule rig:
     input:
-        [config["rig"]["file"]] if config["rig"]["file"] else [],
+        lambda w: [RIG_SECTIONS[w.rig]["file"]] if RIG_SECTIONS[w.rig]["file"] else [],
     output:
         "results/rigs/{rig}.json",
     params:
-        cfg=arg(config["rig"]),
+        cfg=lambda w: arg(RIG_SECTIONS[w.rig]),
         code=code("cameras"),
     log:
         "results/logs/rig/{rig}.log",
@@ -26,6 +26,8 @@ rule voxelize:
         rig="results/rigs/{rig}.json",
     output:
         "results/voxels/{rig}/{motion}.h5",
+    wildcard_constraints:
+        rig=NOT_DEGRADED,
     params:
         cfg=arg(config["voxels"]),
         seed=config["seed"],
