@@ -35,7 +35,11 @@ def _commands():
 
     merged = {}
     for name in COMMAND_MODULES:
-        merged.update(importlib.import_module(f".{name}", __package__).COMMANDS)
+        commands = importlib.import_module(f".{name}", __package__).COMMANDS
+        clash = sorted(set(commands) & set(merged))
+        if clash:  # a programming error, caught by the CLI tests
+            raise RuntimeError(f"voxpose.{name} redefines subcommand(s) {', '.join(clash)}")
+        merged.update(commands)
     return merged
 
 

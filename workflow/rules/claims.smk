@@ -196,7 +196,7 @@ rule transfer_predict:
         mem_mb=2000,
         runtime=10,
     shell:
-        "voxpose predict {input.features} {input.motions} --regressor {input.regressor} --test {params.test}"
+        "voxpose transfer-predict {input.features} {input.motions} --regressor {input.regressor} --test {params.test}"
         " --params {params.cfg} -o {output} --log {log}"
 
 
