@@ -159,7 +159,8 @@ def _figure(which):
 COMMANDS = {
     "voxelize-degraded": ("motion -> degraded silhouettes -> carved voxels (HDF5)", _voxelize_degraded_args,
                           _voxelize_degraded),
-    "transfer-predict": ("apply a trained regressor to other features: errors without retraining", _predict_args, _predict),
+    "transfer-predict": ("apply a trained regressor to other features: errors without retraining", _predict_args,
+                         _predict),
     "silhouette-contexts": ("motion -> silhouettes -> 2D shape contexts per view (HDF5)", _contexts_args, _contexts),
     "fit-silhouette-features": ("fit the A&T K-means codebook on training shape contexts", _fit_at_args, _fit_at),
     "silhouette-features": ("shape contexts -> A&T soft histograms per frame", _at_features_args, _at_features),
