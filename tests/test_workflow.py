@@ -135,10 +135,12 @@ def test_changing_the_rig_reruns_from_carving(workflow_dir):
 
 
 def test_same_config_gives_identical_tables(workflow_dir):
-    before = {p.name: p.read_bytes() for p in (workflow_dir / "results/tables").glob("*.csv")}
-    snakemake(workflow_dir, "--forcerun", "fit_features")
-    after = {p.name: p.read_bytes() for p in (workflow_dir / "results/tables").glob("*.csv")}
-    assert before == after
+    # the feature fits and everything after them, for the paper's tables (the claims' transfers are left out:
+    # they reuse the same fits and regressors, and rerunning them would double this test's time)
+    tables = [workflow_dir / f"results/tables/{name}.csv" for name in ("table1", "table2", "figure4")]
+    before = [p.read_bytes() for p in tables]
+    snakemake(workflow_dir, *(str(p.relative_to(workflow_dir)) for p in tables), "--forcerun", "fit_features")
+    assert [p.read_bytes() for p in tables] == before
 
 
 def test_overlapping_experiment_is_refused(workflow_dir):
