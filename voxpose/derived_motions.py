@@ -42,6 +42,7 @@ unit), which is inferred like ``motion_loader`` does (standing height from bone 
 known unit giving 1.4-2.1 m) unless given.
 """
 
+import inspect
 from pathlib import Path
 
 import numpy as np
@@ -289,8 +290,8 @@ def derive_file(src, kind: str, out_dir, seed, params: dict | None = None) -> tu
         raise VoxposeError(f"derive: unknown derived motion {kind!r} (known: {', '.join(KINDS)})")
     params = dict(params or {})
     transform = {"spiral": spiral_from_walk, "drunk": drunk_from_walk, "turn": turned}[kind]
-    allowed = set(transform.__kwdefaults__ or {}) | ({"degrees"} if kind == "turn" else set())
-    allowed -= {"seed", "source"}
+    keywords = inspect.signature(transform).parameters.values()
+    allowed = {p.name for p in keywords if p.kind is p.KEYWORD_ONLY} - {"seed", "source"}
     unknown = sorted(set(params) - allowed)
     if unknown:
         raise VoxposeError(f"derive {kind}: unknown parameter(s) {unknown} (known: {sorted(allowed)})")
