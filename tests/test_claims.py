@@ -104,7 +104,8 @@ def test_a_stored_regressor_predicts_what_the_fitted_one_does(tmp_path):
     model = MVRVM(kernel_width=2.0, random_state=0, max_iter=50).fit(x, z)
     write_arrays(tmp_path / "r.h5", "regressor", {"pca_mean": np.r_[0.0, pca.mean_],
                  "pca_components": np.c_[np.zeros(len(pca.components_)), pca.components_],
-                 "relevance_vectors": model.relevance_vectors_, "coef": model.coef_},
+                 "relevance_vectors": model.relevance_vectors_, "coef": model.coef_, "relevance": model.relevance_,
+                 "alpha": model.alpha_, "beta": model.beta_},
                  {"kernel_width": model.kernel_width_, "has_bias": model.has_bias_})  # fmt: skip
     predict = stored_predictors(*read_arrays(tmp_path / "r.h5", "regressor"), "angle")
     expected = pca.inverse_transform(model.predict(x[:7]))

@@ -19,7 +19,6 @@ import numpy as np
 from . import canon, metrics, pose_encoding
 from .baselines import KernelRidge, MeanPose, NearestNeighbour
 from .errors import VoxposeError
-from .kernels import design_matrix
 from .mvrvm import MVRVM, select_kernel_width
 from .pose_space import PosePCA
 
@@ -165,12 +164,10 @@ def run(features: dict, motions: dict, train: list, test: list, cfg: dict, seed:
     }
 
     predict = {
-        "mvrvm": lambda x: pose_encoding.decode(pca.inverse_transform(model.predict(x)), heading),
+        "mvrvm": _in_pose_space(pca, model, heading),
         "mean_pose": lambda x: pose_encoding.decode(baselines["mean_pose"].predict(x), heading),
         "nearest_neighbour": lambda x: pose_encoding.decode(baselines["nearest_neighbour"].predict(x), heading),
-        "kernel_ridge": lambda x: pose_encoding.decode(
-            pca.inverse_transform(baselines["kernel_ridge"].predict(x)), heading
-        ),
+        "kernel_ridge": _in_pose_space(pca, baselines["kernel_ridge"], heading),
     }
     predictions, test_summary = evaluate(predict, features, motions, test)
     summary = {
@@ -201,19 +198,20 @@ def run(features: dict, motions: dict, train: list, test: list, cfg: dict, seed:
 def stored_predictors(arrays: dict, meta: dict, heading: str) -> dict:
     """MVRVM and mean-pose predictors (as in ``evaluate``) of a regressor file written by ``voxpose regress``.
 
-    The MVRVM's posterior mean is ``phi(x) coef`` with Gaussians at the stored relevance vectors (and the bias
-    when kept), mapped back through the pose PCA; the mean pose is the PCA mean. Lets one trained regressor be
-    tested on features from other camera rigs or degraded silhouettes without retraining.
+    The pose PCA and MVRVM are rebuilt by ``model_file.regressor_from_arrays``; the mean pose is the PCA
+    mean. Lets one trained regressor be tested on features from other camera rigs or degraded silhouettes
+    without retraining.
     """
-    mean, components = arrays["pca_mean"], arrays["pca_components"]
-    centres, coef = arrays["relevance_vectors"], arrays["coef"]
-    width, bias = float(meta["kernel_width"]), bool(meta["has_bias"])
+    from .model_file import regressor_from_arrays
 
-    def mvrvm(x):
-        coords = design_matrix(np.asarray(x, dtype=np.float64), centres, width, bias) @ coef
-        return pose_encoding.decode(coords @ components + mean, heading)
+    pca, model = regressor_from_arrays(arrays, meta)
 
     def mean_pose(x):
-        return pose_encoding.decode(np.broadcast_to(mean, (len(x), mean.size)), heading)
+        return pose_encoding.decode(np.broadcast_to(pca.mean_, (len(x), pca.mean_.size)), heading)
 
-    return {"mvrvm": mvrvm, "mean_pose": mean_pose}
+    return {"mvrvm": _in_pose_space(pca, model, heading), "mean_pose": mean_pose}
+
+
+def _in_pose_space(pca: PosePCA, regressor, heading: str):
+    """Features -> the 42 angles through a regressor of pose-PCA coordinates (Eq. 1) and the heading code."""
+    return lambda x: pose_encoding.decode(pca.inverse_transform(regressor.predict(x)), heading)
