@@ -151,9 +151,10 @@ def run(features: dict, motions: dict, train: list, test: list, cfg: dict, seed:
     width_table = None
     width = cfg["kernel_width"]
     if width == "auto":
-        width, width_table = select_kernel_width(
-            x_train, z_train, scales=cfg["width_scales"], groups=groups, random_state=seed, **mvrvm_params
-        )
+        # the candidate widths are only ranked, so their fits get a smaller budget than the final fit
+        budget = min(cfg["max_iter"], cfg.get("selection_max_iter") or cfg["max_iter"])
+        width, width_table = select_kernel_width(x_train, z_train, scales=cfg["width_scales"], groups=groups,
+                                                 random_state=seed, max_iter=budget, tol=cfg["tol"])  # fmt: skip
     model = MVRVM(kernel_width=width, random_state=seed, **mvrvm_params).fit(x_train, z_train)
     log.info("MVRVM: kernel width %.4g, %d of %d relevance vectors, converged %s after %d iterations",
              model.kernel_width_, len(model.relevance_), len(x_train), model.converged_, model.n_iter_)  # fmt: skip

@@ -73,7 +73,7 @@ rule fit_silhouette_features:
         code=code("silhouette_features", "feature_model", "kmeans", "frame_features", "store"),
     log:
         "results/logs/fit_silhouette_features/{exp}/{rig}/{desc}/{feat}.log",
-    threads: 2
+    threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
     resources:
         mem_mb=4000,
         runtime=30,
@@ -97,7 +97,7 @@ rule silhouette_features:
         code=code("silhouette_features", "feature_model", "kmeans", "frame_features", "store"),
     log:
         "results/logs/silhouette_features/{exp}/{rig}/{desc}/{feat}.log",
-    threads: 2
+    threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
     resources:
         mem_mb=4000,
         runtime=30,

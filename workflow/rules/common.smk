@@ -103,6 +103,11 @@ wildcard_constraints:
 # `retries`). Both numbers come from benchmarks/rule_resources.py (peak RSS and wall time per job against input size),
 # with headroom; profiles/README.md records the measurements. Rules in the `per_motion` group use by_frames, because
 # a batch is submitted before its members' inputs exist; every other rule uses by_input.
+#
+# Threads: every rule asks for 1. A rule's `threads` also sets its BLAS/OpenMP threads (voxpose.cli), and on the
+# 2-core machine BLAS threads did not pay for these matrix sizes (default run's inputs, wall time of one job at 1 and
+# at 2 threads): fit-features 28.8 s at 1 thread, 39 s at 2; features 10.5 and 9.5 s; silhouette-features 8.7 and
+# 16.3 s. Two 1-thread jobs side by side use both cores; a 2-thread job blocked the second core for little gain.
 
 
 @functools.cache

@@ -16,7 +16,7 @@ rule fit_features:
         code=code("mppca", "kmeans", "frame_features", "feature_model", "store"),
     log:
         "results/logs/fit_features/{exp}/{rig}/{desc}/{feat}.log",
-    threads: 2
+    threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
     resources:
         mem_mb=by_input(1000, 8),
         runtime=by_input(60, 0.2),
@@ -37,7 +37,7 @@ rule features:
         code=code("mppca", "kmeans", "frame_features", "feature_model", "store"),
     log:
         "results/logs/features/{exp}/{rig}/{desc}/{feat}.log",
-    threads: 2
+    threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
     resources:
         mem_mb=by_input(500, 1),
         runtime=by_input(10, 0.1),
