@@ -325,14 +325,31 @@ def test_targets_without_signal_give_the_empty_model():
     assert np.allclose(std, 1 / np.sqrt(model.beta_))
 
 
+def test_warm_start_resumes_a_fit_on_permuted_rows(toy_fit):
+    x, y, _, model = toy_fit
+    order = np.random.default_rng(3).permutation(len(x))  # the start model's row i is row where(order == i)
+    rows = np.argsort(order)
+    warm = MVRVM(kernel_width=1.5).fit(x[order], y[order], start=(model, rows))
+    # it starts exactly at the converged model (same basis functions, precisions and noise) ...
+    start_phi = fitted_basis(model, x)
+    assert warm.log_marginal_likelihood_[0] == pytest.approx(log_ml(start_phi, y, model.alpha_, model.beta_), rel=1e-9)
+    # ... and ends at least as high, on the same rows (mapped back through the permutation)
+    assert warm.log_marginal_likelihood_[-1] >= model.log_marginal_likelihood_[-1] - 1e-6
+    assert warm.n_iter_ < model.n_iter_
+    assert set(order[warm.relevance_]) == set(model.relevance_)
+    with pytest.raises(VoxposeError, match="same kernel width"):
+        MVRVM(kernel_width=2.0).fit(x, y, start=(model, np.arange(len(x))))
+
+
 def test_select_kernel_width_uses_held_out_rows():
     x, y, _ = toy(n=120, seed=6)
-    width, table = select_kernel_width(x, y, scales=(0.05, 0.5, 8.0), random_state=0)
+    width, table, (model, rows) = select_kernel_width(x, y, scales=(0.05, 0.5, 8.0), random_state=0)
     assert list(table["scale"]) == [0.05, 0.5, 8.0]
     assert width == table.loc[table["val_rmse"].idxmin(), "width"]
     assert table.loc[table["width"] == width, "scale"].item() == 0.5  # neither too narrow nor too wide
+    assert model.kernel_width_ == width and len(rows) < 120 and len(model.relevance_) > 0  # the chosen candidate
     groups = np.repeat(np.arange(6), 20)
-    width_g, table_g = select_kernel_width(x, y, widths=[1.0, 2.0], groups=groups, random_state=0)
+    width_g, table_g, _ = select_kernel_width(x, y, widths=[1.0, 2.0], groups=groups, random_state=0)
     assert width_g in (1.0, 2.0) and table_g["scale"].isna().all()
 
 

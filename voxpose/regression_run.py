@@ -148,14 +148,16 @@ def run(features: dict, motions: dict, train: list, test: list, cfg: dict, seed:
     log.info("pose PCA: M = %d components keep %.1f %% of the variance (Eq. 1)", pca.n_components_,
              100 * pca.explained_variance_ratio_.sum())  # fmt: skip
     mvrvm_params = {"max_iter": cfg["max_iter"], "tol": cfg["tol"]}
-    width_table = None
+    width_table = start = None
     width = cfg["kernel_width"]
     if width == "auto":
-        # the candidate widths are only ranked, so their fits get a smaller budget than the final fit
+        # the candidate widths are only ranked, so their fits get a smaller budget than the final fit, which
+        # starts from the chosen candidate (MVRVM._warm_start)
         budget = min(cfg["max_iter"], cfg.get("selection_max_iter") or cfg["max_iter"])
-        width, width_table = select_kernel_width(x_train, z_train, scales=cfg["width_scales"], groups=groups,
-                                                 random_state=seed, max_iter=budget, tol=cfg["tol"])  # fmt: skip
-    model = MVRVM(kernel_width=width, random_state=seed, **mvrvm_params).fit(x_train, z_train)
+        width, width_table, start = select_kernel_width(x_train, z_train, scales=cfg["width_scales"],
+                                                        groups=groups, random_state=seed, max_iter=budget,
+                                                        tol=cfg["tol"])  # fmt: skip
+    model = MVRVM(kernel_width=width, random_state=seed, **mvrvm_params).fit(x_train, z_train, start=start)
     log.info("MVRVM: kernel width %.4g, %d of %d relevance vectors, converged %s after %d iterations",
              model.kernel_width_, len(model.relevance_), len(x_train), model.converged_, model.n_iter_)  # fmt: skip
     baselines = {
