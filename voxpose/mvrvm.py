@@ -35,7 +35,8 @@ candidates, and keeps the one with the largest ``l`` evaluated directly, so the 
 root's accuracy alone. For P = 1 it is Tipping & Faul's ``alpha = s^2 / (q^2 - s)`` if ``q^2 > s``, else
 ``inf`` (their Eq. 20).
 
-Training (Tipping & Faul 2003, Sec. 4, with the shared alpha). Start from the empty model. Each
+Training (Tipping & Faul 2003, Sec. 4, with the shared alpha). Start from the empty model (or, with
+``fit(start=...)``, from another fit's relevance vectors, precisions and noise: ``MVRVM._warm_start``). Each
 iteration finds the move with the largest gain in ``L``: add an inactive basis function at its optimal
 alpha, re-estimate an active one, or delete one (never the last). Active basis functions are ranked by
 deletion and by two Newton steps towards their nearest optimum, and the best-ranked re-estimate then
@@ -735,9 +736,13 @@ class MVRVM:
 
         Why: from the empty model the first moves can stall. With one weak basis function active, the noise
         re-estimate of the first iterations absorbs the whole target variance, and then no single Gaussian
-        raises the likelihood (seen on the 600-d concatenated 2D shape-context features at the widest
-        candidate width: the candidate kept 114 relevance vectors on 80 % of the rows, the fit on all rows
-        none). A candidate fitted on most of the same rows is a nearby point of the same likelihood.
+        raises the likelihood. A candidate fitted on most of the same rows is a nearby point of the same
+        likelihood. Measured on the default run (fixed width, 2000 moves, cold start against this one):
+        Figure 4's 600-d concatenated 2D shape contexts at width 0.41, the cold fit stopped after 5 moves
+        with the bias alone (log ML -12967, the mean pose's 10.14 deg), the warm one kept 156 relevance
+        vectors (-10390, 7.54 deg); where the cold fit does not stall it ends a little higher and the test
+        error is the same (Table 1 MPPCA: -37586 cold, -37681 warm, 4.18 and 4.11 deg; Table 1 concatenated
+        2D shape contexts: -33531, -33703, 3.62 and 3.63 deg), in the same time.
         """
         if model.kernel_width_ != self.kernel_width_ or model.coef_.shape[1] != post.p:
             raise VoxposeError("MVRVM: a warm start needs a model of the same kernel width and outputs")
