@@ -16,10 +16,13 @@ Times are CPU times of this process (robust to a loaded machine). Run on one cor
 
     OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 taskset -c 0 .venv/bin/python benchmarks/bench_predict.py
 
-Measured on the shared 2-core VM (load average 4.5-4.8 from other jobs), ms per frame: carve 9.4, surface and
-basis 3.5, 3DSC 13.0, features 7.7, regression 0.02; end to end 33.7 ms, 29.7 frames/s, short of the
-50 frames/s target. The MPPCA features are bound by one (n x 201) @ (201 x K(q + 1)) product per frame
-(2.7 ms of them); 3DSC is the largest stage.
+Measured (ms per frame; 2026-11-25, idle 2-core AMD EPYC VM, load average 0.1, twice with ``--model`` the default
+run's Table 2 model, 522 relevance vectors): carve 4.03 / 3.89, surface and basis 1.65 / 1.53, 3DSC 6.16 / 6.40,
+features 4.14 / 4.11, regression 0.01; end to end 16.37 / 15.42 ms, 61.1 / 64.8 frames/s (target 50); PNG reading
+1.68 / 1.60 ms more (55.4 frames/s from files, worst run). The stand-in model: 14.58 ms, 68.6 frames/s. The same
+code on the previous session's VM measured 28.7 ms idle (34.8 frames/s): per-stage times there were about twice
+these, so the rate depends on the machine. The MPPCA features are bound by one (n x 201) @ (201 x K(q + 1))
+product per frame; 3DSC is the largest stage.
 """
 
 import os
