@@ -341,6 +341,16 @@ def test_warm_start_resumes_a_fit_on_permuted_rows(toy_fit):
         MVRVM(kernel_width=2.0).fit(x, y, start=(model, np.arange(len(x))))
 
 
+def test_the_last_basis_function_is_never_removed():
+    x, y, _ = toy(n=50, seed=7)
+    one = MVRVM(kernel_width=1.5, max_iter=1).fit(x, y)  # a single move: one basis function
+    assert one.alpha_.size == 1
+    # on targets without signal the function's optimal alpha is infinite; as the last one it stays, pruned
+    model = MVRVM(kernel_width=1.5).fit(x, np.zeros((50, 3)), start=(one, np.arange(50)))
+    assert model.converged_ and model.alpha_.size == 1 and model.alpha_[0] > 1e6
+    assert np.allclose(model.predict(x), 0.0, atol=1e-6)
+
+
 def test_select_kernel_width_uses_held_out_rows():
     x, y, _ = toy(n=120, seed=6)
     width, table, (model, rows) = select_kernel_width(x, y, scales=(0.05, 0.5, 8.0), random_state=0)
