@@ -10,12 +10,12 @@ import tempfile
 import time
 from pathlib import Path
 
-from voxpose.bvh import write_bvh
-from voxpose.cameras import circular_rig
-from voxpose.degrade import Degradation, voxelize_degraded
-from voxpose.motion_generator import generate_motion
-from voxpose.motion_loader import load_motion
-from voxpose.silhouette_features import render_contexts
+from voxpose.features.silhouette import render_contexts
+from voxpose.io.bvh import write_bvh
+from voxpose.motion.generate import generate_motion
+from voxpose.motion.load import load_motion
+from voxpose.voxels.cameras import circular_rig
+from voxpose.voxels.degrade import Degradation, voxelize_degraded
 
 CONTOUR = {"n_points": 200, "n_r": 5, "n_theta": 12, "r_inner": 0.125, "r_outer": 2.0}
 

@@ -8,8 +8,8 @@ import time
 from collections import defaultdict
 from pathlib import Path
 
-from voxpose.bvh import read_bvh
-from voxpose.motion_loader import load_motion
+from voxpose.io.bvh import read_bvh
+from voxpose.motion.load import load_motion
 
 
 def main(folder: Path) -> None:

@@ -20,7 +20,7 @@ import time
 
 import numpy as np
 
-from voxpose.mppca import MPPCA, _accumulate, _log_joint_chunks, _logsumexp_rows, _Params, _project
+from voxpose.features.mppca import MPPCA, _accumulate, _log_joint_chunks, _logsumexp_rows, _Params, _project
 
 
 def histogram_descriptors(n, d=200, n_prototypes=200, votes=300, seed=0):

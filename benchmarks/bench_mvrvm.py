@@ -19,7 +19,7 @@ import time
 
 import numpy as np
 
-from voxpose.mvrvm import MVRVM
+from voxpose.regression.mvrvm import MVRVM
 
 
 def trajectories(n_frames: int, dim: int, rng) -> np.ndarray:

@@ -1,7 +1,7 @@
 """End-to-end inference speed of ``voxpose predict``: 6-view silhouettes -> 42 angles, frames per second.
 
 Silhouettes of generated motions (one per motion type) are rendered into the default rig (6 cameras,
-480 x 480) and kept in memory; the stages of ``voxpose.predict`` then run on them, each timed over the whole
+480 x 480) and kept in memory; the stages of ``voxpose.apply.predict`` then run on them, each timed over the whole
 sequence and reported per frame: carving (``Carver`` at l_res = h_sub / 60, after h_sub is measured on the
 first frame), surface and basis voxels (``surface_mask``, ``basis_indices``, 200 basis voxels), 3D shape
 contexts (``ShapeContextTable``, default descriptor), features (Eq. 5, MPPCA K = 200, q = 5) and regression
@@ -37,21 +37,21 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from voxpose import predict  # noqa: E402
-from voxpose.bvh import write_bvh  # noqa: E402
-from voxpose.cameras import circular_rig  # noqa: E402
-from voxpose.carve import Carver  # noqa: E402
-from voxpose.feature_model import FeatureModel  # noqa: E402
-from voxpose.model_file import PoseModel, load_model  # noqa: E402
-from voxpose.motion_generator import generate_motion  # noqa: E402
-from voxpose.motion_loader import load_motion  # noqa: E402
-from voxpose.mvrvm import MVRVM  # noqa: E402
-from voxpose.output_skeleton import OutputSkeleton  # noqa: E402
-from voxpose.pose_encoding import encode  # noqa: E402
-from voxpose.pose_space import PosePCA  # noqa: E402
-from voxpose.silhouette_io import iter_silhouette_folder, write_silhouette_folder  # noqa: E402
-from voxpose.surface import basis_indices, surface_mask  # noqa: E402
-from voxpose.voxelize import voxelize_motion  # noqa: E402
+from voxpose.apply import predict  # noqa: E402
+from voxpose.apply.model_file import PoseModel, load_model  # noqa: E402
+from voxpose.features.model import FeatureModel  # noqa: E402
+from voxpose.io.bvh import write_bvh  # noqa: E402
+from voxpose.motion.generate import generate_motion  # noqa: E402
+from voxpose.motion.load import load_motion  # noqa: E402
+from voxpose.motion.output_skeleton import OutputSkeleton  # noqa: E402
+from voxpose.regression.mvrvm import MVRVM  # noqa: E402
+from voxpose.regression.pose_encoding import encode  # noqa: E402
+from voxpose.regression.pose_space import PosePCA  # noqa: E402
+from voxpose.voxels.cameras import circular_rig  # noqa: E402
+from voxpose.voxels.carve import Carver  # noqa: E402
+from voxpose.voxels.silhouettes import iter_silhouette_folder, write_silhouette_folder  # noqa: E402
+from voxpose.voxels.surface import basis_indices, surface_mask  # noqa: E402
+from voxpose.voxels.voxelize import voxelize_motion  # noqa: E402
 
 DESCRIPTOR = {"n_r": 4, "n_e": 5, "n_a": 10, "r_min": 2.0, "r_max": 1 / 3, "soft": True, "normalise": False}
 VOXELS = {"l_res_fraction": 1 / 60, "min_views": None, "n_basis": 200, "seed": 0}

@@ -1,6 +1,6 @@
 """Speed of rendering and carving at the default settings, and the voxel counts of Figure 2.
 
-Runs on generated motions (``voxpose.motion_generator``, written as BVH and loaded like real data) or on
+Runs on generated motions (``voxpose.motion.generate``, written as BVH and loaded like real data) or on
 BVH files given with ``--bvh``; one core (BLAS limited to one thread). Times are CPU times of this
 process (robust to a shared machine); each frame is timed ``--repeats`` times and the best counts.
 Prints per-frame times and frames
@@ -23,15 +23,15 @@ from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from voxpose.body import body_ellipsoids  # noqa: E402
-from voxpose.bvh import write_bvh  # noqa: E402
-from voxpose.cameras import circular_rig  # noqa: E402
-from voxpose.carve import Carver  # noqa: E402
-from voxpose.motion_generator import generate_motion  # noqa: E402
-from voxpose.motion_loader import load_motion  # noqa: E402
-from voxpose.render import render_silhouettes  # noqa: E402
-from voxpose.surface import basis_indices, surface_mask  # noqa: E402
-from voxpose.voxelize import subject_shifts, voxelize_motion  # noqa: E402
+from voxpose.io.bvh import write_bvh  # noqa: E402
+from voxpose.motion.generate import generate_motion  # noqa: E402
+from voxpose.motion.load import load_motion  # noqa: E402
+from voxpose.voxels.body import body_ellipsoids  # noqa: E402
+from voxpose.voxels.cameras import circular_rig  # noqa: E402
+from voxpose.voxels.carve import Carver  # noqa: E402
+from voxpose.voxels.render import render_silhouettes  # noqa: E402
+from voxpose.voxels.surface import basis_indices, surface_mask  # noqa: E402
+from voxpose.voxels.voxelize import subject_shifts, voxelize_motion  # noqa: E402
 
 
 def generated_motions(frames: int, folder: Path) -> list:

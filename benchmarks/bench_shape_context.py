@@ -22,8 +22,8 @@ import time
 import numpy as np
 from scipy import ndimage
 
-from voxpose.shape_context import shape_contexts
-from voxpose.shape_context_lut import ShapeContextTable
+from voxpose.descriptors.lut import ShapeContextTable
+from voxpose.descriptors.shape_context import shape_contexts
 
 HEIGHT = 1.75  # metres
 VOXELS_PER_HEIGHT = 60  # l_res = h_sub / 60 (Section 4)

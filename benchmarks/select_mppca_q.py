@@ -14,9 +14,9 @@ import time
 
 import numpy as np
 
-from voxpose.feature_model import subsample
-from voxpose.mppca import MPPCA
-from voxpose.store import read_descriptors
+from voxpose.descriptors.file import read_descriptors
+from voxpose.features.model import subsample
+from voxpose.features.mppca import MPPCA
 
 
 def load(paths) -> np.ndarray:

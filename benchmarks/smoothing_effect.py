@@ -14,9 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from voxpose import metrics
-from voxpose.predict import smooth_angles
-from voxpose.store import read_per_motion
+from voxpose.apply.predict import smooth_angles
+from voxpose.evaluation import metrics
+from voxpose.io.hdf5 import read_per_motion
 
 
 def errors(path, sigmas) -> dict:

@@ -1,16 +1,15 @@
 """The workflow's view of the config: validation, motion lists, experiments, parameter-set tags."""
 
 import copy
-from pathlib import Path
 
 import pytest
 import yaml
 
+from tests.helpers import ROOT
 from voxpose import workflow_config as wc
 from voxpose.errors import VoxposeError
-from voxpose.motion_data import kind_of
+from voxpose.motion.data import kind_of
 
-ROOT = Path(__file__).resolve().parents[1]
 SCHEMA = ROOT / "config" / "schema.yaml"
 
 

@@ -13,7 +13,7 @@ from pathlib import Path
 import jsonschema
 import yaml
 
-from .errors import VoxposeError
+from voxpose.errors import VoxposeError
 
 
 def validate_config(config: dict, schema_path) -> None:
@@ -38,8 +38,8 @@ def generated_motions(spec: dict) -> dict:
 
 def derived_motions(derived: list, source_names) -> dict:
     """Derived motion names -> (kind, source, params): ``spiral_<source>``, ``drunk_<source>`` or
-    ``<source>_turnDDD`` (``derived_motions.derived_name``); the source must be a known motion."""
-    from .derived_motions import derived_name
+    ``<source>_turnDDD`` (``motion.derive.derived_name``); the source must be a known motion."""
+    from voxpose.motion.derive import derived_name
 
     out = {}
     source_names = set(source_names)
@@ -130,7 +130,7 @@ _RIG_OVERRIDES = ("n_cameras", "radius", "height", "target_height", "focal_px", 
 def rig_camera_count(section: dict) -> int:
     """Number of cameras of a `rig`-style section: its calibration file's, else ``n_cameras``."""
     if section.get("file"):
-        from .cameras import load_rig
+        from voxpose.voxels.cameras import load_rig
 
         return len(load_rig(section["file"]))
     return int(section["n_cameras"])
@@ -164,7 +164,7 @@ def degraded_sets(claims: dict, rig_name: str, n_cameras: int) -> dict:
 
     One per degradation level and carving rule ``min_views = n_cameras - k`` (k in ``claims.carving_drop``),
     plus the clean silhouettes (kind ``none``) under each rule. Value: ``{"kind", "level", "band_px",
-    "min_views"}`` (``voxpose.degrade``).
+    "min_views"}`` (``voxpose.voxels.degrade``).
     """
     out = {}
     for i, drop in enumerate(claims["carving_drop"]):
@@ -179,7 +179,7 @@ def degraded_sets(claims: dict, rig_name: str, n_cameras: int) -> dict:
 
 
 def contour_tag(cfg: dict) -> str:
-    """Readable name of a 2D shape-context parameter set (``voxpose.contour_shape_context``)."""
+    """Readable name of a 2D shape-context parameter set (``voxpose.descriptors.contour``)."""
     return f"sc2d-p{cfg['n_points']}-{cfg['n_r']}x{cfg['n_theta']}-r{_num(cfg['r_inner'])}-{_num(cfg['r_outer'])}"
 
 

@@ -39,7 +39,7 @@ rule silhouette_contexts:
     params:
         cfg=arg(CLAIMS["contour"]),
         voxels=arg(config["voxels"]),
-        code=code("silhouette_features", "contour_shape_context", "degrade", "body", "render", "store"),
+        code=code("features.silhouette", "descriptors.contour", "voxels.degrade", "voxels.body", "voxels.render", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
     log:
         "results/logs/silhouette_contexts/{rig}/{ctx}/{motion}.log",
     group: "per_motion"  # batched into one cluster job per few motions (profiles/slurm)
@@ -70,7 +70,7 @@ rule fit_silhouette_features:
         cfg=arg(CLAIMS["at"]),
         cameras=at_cameras,
         seed=config["seed"],
-        code=code("silhouette_features", "feature_model", "kmeans", "frame_features", "store"),
+        code=code("features.silhouette", "features.model", "features.kmeans", "features.frame", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
     log:
         "results/logs/fit_silhouette_features/{exp}/{rig}/{desc}/{feat}.log",
     threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
@@ -94,7 +94,7 @@ rule silhouette_features:
         desc=re.escape(CTX),
         feat=f"{re.escape(AT_ONE)}|{re.escape(AT_ALL)}",
     params:
-        code=code("silhouette_features", "feature_model", "kmeans", "frame_features", "store"),
+        code=code("features.silhouette", "features.model", "features.kmeans", "features.frame", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
     log:
         "results/logs/silhouette_features/{exp}/{rig}/{desc}/{feat}.log",
     threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
@@ -120,7 +120,7 @@ rule voxelize_degraded:
         degradation=lambda w: arg(DEGRADED[w.voxel_set]),
         cfg=arg(config["voxels"]),
         seed=config["seed"],
-        code=code("degrade", "voxelize", "body", "cameras", "render", "carve", "surface", "store"),
+        code=code("voxels.degrade", "voxels.voxelize", "voxels.body", "voxels.cameras", "voxels.render", "voxels.carve", "voxels.surface", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
     log:
         "results/logs/voxelize_degraded/{voxel_set}/{motion}.log",
     group: "per_motion"  # batched into one cluster job per few motions (profiles/slurm)
@@ -145,7 +145,7 @@ rule transfer_features:
     output:
         "results/claims/transfer/{voxel_set}/mppca/features.h5",
     params:
-        code=code("mppca", "kmeans", "frame_features", "feature_model", "store"),
+        code=code("features.mppca", "features.kmeans", "features.frame", "features.model", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
     log:
         "results/logs/transfer_features/{voxel_set}/mppca.log",
     threads: 1
@@ -165,7 +165,7 @@ rule transfer_silhouette_features:
     output:
         "results/claims/transfer/{voxel_set}/at/features.h5",
     params:
-        code=code("silhouette_features", "feature_model", "kmeans", "frame_features", "store"),
+        code=code("features.silhouette", "features.model", "features.kmeans", "features.frame", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
     log:
         "results/logs/transfer_features/{voxel_set}/at.log",
     threads: 1
@@ -188,7 +188,7 @@ rule transfer_predict:
     params:
         test=lambda w: ",".join(claims_test(w.voxel_set)),
         cfg=arg(config["regression"]),
-        code=code("regression_run", "kernels", "pose_encoding", "metrics", "pose_fk", "store"),
+        code=code("evaluation.run", "regression.kernels", "regression.pose_encoding", "evaluation.metrics", "motion.pose_kinematics", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
     log:
         "results/logs/transfer_predict/{voxel_set}/{method}.log",
     threads: 1
@@ -237,7 +237,7 @@ rule camera_figure:
         csv=report("results/tables/camera_rigs.csv", caption="../report/camera_rigs_table.rst", category="Claims"),
     params:
         runs=arg(camera_runs()),
-        code=code("claims_figures", "figures", "tables", "store"),
+        code=code("evaluation.claims_figures", "evaluation.figures", "evaluation.tables", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
     log:
         "results/logs/camera_figure.log",
     localrule: True
@@ -257,7 +257,7 @@ rule robustness_figure:
         csv=report("results/tables/robustness.csv", caption="../report/robustness_table.rst", category="Claims"),
     params:
         runs=arg(robustness_runs()),
-        code=code("claims_figures", "figures", "tables", "store"),
+        code=code("evaluation.claims_figures", "evaluation.figures", "evaluation.tables", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
     log:
         "results/logs/robustness_figure.log",
     localrule: True

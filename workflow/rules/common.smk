@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 
 import voxpose
-from voxpose.bvh import read_duration
+from voxpose.io.bvh import read_duration
 from voxpose.errors import VoxposeError
 from voxpose import workflow_config as wc
 
@@ -104,7 +104,7 @@ wildcard_constraints:
 # with headroom; profiles/README.md records the measurements. Rules in the `per_motion` group use by_frames, because
 # a batch is submitted before its members' inputs exist; every other rule uses by_input.
 #
-# Threads: every rule asks for 1. A rule's `threads` also sets its BLAS/OpenMP threads (voxpose.cli), and on the
+# Threads: every rule asks for 1. A rule's `threads` also sets its BLAS/OpenMP threads (voxpose.cli.main), and on the
 # 2-core machine BLAS threads did not pay for these matrix sizes (default run's inputs, wall time of one job at 1 and
 # at 2 threads): fit-features 28.8 s at 1 thread, 39 s at 2; features 10.5 and 9.5 s; silhouette-features 8.7 and
 # 16.3 s. Two 1-thread jobs side by side use both cores; a 2-thread job blocked the second core for little gain.
@@ -132,7 +132,7 @@ def by_input(base, per_input_mb=0):
 
 def code(*modules):
     """Content hash of voxpose modules a rule uses (Snakemake does not see edits to the package)."""
-    return wc.code_hash([VOXPOSE_DIR / f"{m}.py" for m in modules])
+    return wc.code_hash([VOXPOSE_DIR / (m.replace(".", "/") + ".py") for m in modules])
 
 
 def arg(value):

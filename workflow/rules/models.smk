@@ -1,5 +1,5 @@
 # Trained pipelines as model files for `voxpose predict` on new data: carving settings, descriptor parameters,
-# feature model, pose PCA, MVRVM and output skeleton in one versioned HDF5 file (voxpose/model_file.py).
+# feature model, pose PCA, MVRVM and output skeleton in one versioned HDF5 file (voxpose/apply/model_file.py).
 
 
 rule export_model:
@@ -16,7 +16,7 @@ rule export_model:
         regression=arg(config["regression"]),
         seed=config["seed"],
         name=lambda w: f"{w.exp}/{w.rig}/{w.desc}/{w.feat}",
-        code=code("model_file", "output_skeleton", "feature_model", "mvrvm", "pose_space", "store"),
+        code=code("apply.model_file", "motion.output_skeleton", "features.model", "regression.mvrvm", "regression.pose_space", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
     log:
         "results/logs/export_model/{exp}/{rig}/{desc}/{feat}.log",
     threads: 1

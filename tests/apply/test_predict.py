@@ -1,0 +1,233 @@
+"""``voxpose predict`` on new data: a small model trained through the workflow's own commands, applied to PNG
+silhouettes of a held-out motion, gives the regression run's estimates and error; bad input fails cleanly."""
+
+import json
+
+import h5py
+import numpy as np
+import pandas as pd
+import pytest
+
+from voxpose.apply.model_file import load_model
+from voxpose.apply.outputs import read_record
+from voxpose.cli.main import main
+from voxpose.evaluation import metrics
+from voxpose.io.bvh import read_bvh
+from voxpose.io.hdf5 import read_per_motion
+from voxpose.motion import canon
+from voxpose.motion.load import load_motion
+from voxpose.motion.output_skeleton import angles_from_bvh
+
+TRAIN = ("walk_gen_00", "jog_gen_00", "drunk_gen_00")
+TEST = "walk_gen_01"
+RIG = {"name": "six", "file": None, "n_cameras": 6, "radius": 4.0, "height": 2.0, "target_height": 1.0,
+       "focal_px": 150.0, "width": 128, "image_height": 128}  # fmt: skip
+VOXELS = {"l_res_fraction": 1 / 30, "min_views": None, "n_basis": 40, "follow_subject": True, "proportions": {}}
+DESCRIPTOR = {"n_r": 3, "n_e": 3, "n_a": 6, "r_min": 1.0, "r_max": 1 / 3, "soft": True, "normalise": False}
+FEATURES = {"n_components": 6, "n_latent": 2, "max_iter": 10, "tol": 1e-4, "fit_subsample": None,
+            "kmeans_neighbours": 3}  # fmt: skip
+REGRESSION = {"pca_variance": 0.9, "heading": "vector", "kernel_width": "auto", "width_scales": [1.0],
+              "max_iter": 500, "tol": 1e-3}  # fmt: skip
+
+
+def run(*args):
+    assert main([str(a) for a in args]) == 0, args
+
+
+def voxpose(capsys, *args):
+    """Run ``voxpose`` in this process; -> (exit status, stderr)."""
+    capsys.readouterr()
+    status = main([str(a) for a in args])
+    return status, capsys.readouterr().err
+
+
+def one_line_error(result, *fragments):
+    """Exit status 2 and one ``voxpose: error:`` line, the last one (progress lines may precede it)."""
+    status, err = result
+    lines = err.strip().splitlines()
+    assert status == 2 and [line for line in lines if "error" in line] == lines[-1:], err
+    assert lines[-1].startswith("voxpose: error: ")
+    for fragment in fragments:
+        assert fragment in lines[-1], lines[-1]
+
+
+@pytest.fixture(scope="module")
+def trained(tmp_path_factory):
+    """The workflow's steps on tiny data: motions, voxels, descriptors, MPPCA, regression, model file."""
+    d = tmp_path_factory.mktemp("predict")
+    run("rig", "--params", json.dumps(RIG), "-o", d / "rig.json")
+    for name in (*TRAIN, TEST):
+        kind, _, index = name.split("_")
+        run("generate", "--kind", kind, "--index", int(index), "--frames", 24, "--seed", 5, "-o", d / f"{name}.bvh")
+        run("motion", d / f"{name}.bvh", "-o", d / f"{name}.h5")
+        extra = ["--export-silhouettes", d / "sil"] if name == TEST else []
+        run("voxelize", d / f"{name}.h5", "--rig", d / "rig.json", "--params", json.dumps(VOXELS), "--seed", 7,
+            "-o", d / f"vox_{name}.h5", *extra)  # fmt: skip
+        run("describe", d / f"vox_{name}.h5", "--params", json.dumps(DESCRIPTOR), "-o", d / f"desc_{name}.h5")
+    run("fit-features", *(d / f"desc_{n}.h5" for n in TRAIN), "--method", "mppca", "--params", json.dumps(FEATURES),
+        "--seed", 7, "-o", d / "features_model.h5")  # fmt: skip
+    run("features", d / "features_model.h5", *(d / f"desc_{n}.h5" for n in (*TRAIN, TEST)), "-o", d / "features.h5")
+    run("regress", d / "features.h5", *(d / f"{n}.h5" for n in (*TRAIN, TEST)), "--train", ",".join(TRAIN),
+        "--test", TEST, "--params", json.dumps(REGRESSION), "--seed", 7, "--model", d / "regressor.h5",
+        "--predictions", d / "predictions.h5", "--angles", d / "angles.csv",
+        "--summary", d / "summary.json")  # fmt: skip
+    run("export-model", "--feature-model", d / "features_model.h5", "--regressor", d / "regressor.h5",
+        "--summary", d / "summary.json", "--motions", *(d / f"{n}.h5" for n in TRAIN), "--voxels", json.dumps(VOXELS),
+        "--descriptor", json.dumps(DESCRIPTOR), "--regression", json.dumps(REGRESSION), "--seed", 7,
+        "-o", d / "model.h5")  # fmt: skip
+    return d
+
+
+def test_predict_from_png_silhouettes_reproduces_the_regression_run(trained):
+    d = trained
+    run("predict", d / "model.h5", "--rig", d / "rig.json", "--silhouettes", d / "sil", "-o", d / "out.bvh")
+    workflow = read_per_motion(d / "predictions.h5", "predictions")[0][TEST]
+    summary = json.loads((d / "summary.json").read_text())
+    angles, root = angles_from_bvh(read_bvh(d / "out.bvh"))
+    assert angles.shape == (24, canon.N_ANGLES) and workflow["valid"].all()
+    np.testing.assert_allclose(angles, workflow["pred_mvrvm"], atol=1e-5)
+    error = metrics.full_body_error(workflow["true"], angles)
+    assert error == pytest.approx(summary["methods"]["mvrvm"]["full_body"], abs=1e-6)
+    table = pd.read_csv(d / "out.csv")
+    assert list(table.columns) == ["frame", "valid", *canon.ANGLE_NAMES] and table["valid"].all()
+    np.testing.assert_allclose(table[list(canon.ANGLE_NAMES)].to_numpy(), workflow["pred_mvrvm"], atol=1e-5)
+    # the position-based reader sees the same motion except the limbs' twist, which it cannot see
+    reread = load_motion(d / "out.bvh")
+    assert reread.source["skeleton"] == "generated" and reread.n_frames == 24
+    assert metrics.full_body_error(workflow["true"], reread.angles) == pytest.approx(error, abs=1.0)
+
+
+def _outputs_absent(directory, stem="out"):
+    left = sorted(p.name for p in directory.iterdir() if p.name.startswith((stem, f".{stem}")))
+    assert left == [], left
+
+
+def test_predict_from_voxels_carries_truth_and_renders(trained, tmp_path):
+    d = trained
+    run("predict", d / "model.h5", "--voxels", d / f"vox_{TEST}.h5", "-o", tmp_path / "v.bvh")
+    workflow = read_per_motion(d / "predictions.h5", "predictions")[0][TEST]
+    prediction, skeleton, meta = read_record(tmp_path / "v.h5")
+    np.testing.assert_allclose(prediction.angles, workflow["pred_mvrvm"], atol=1e-9)
+    np.testing.assert_array_equal(prediction.true_angles, workflow["true"])
+    assert prediction.fps == 30.0 and meta["source"] == {"voxels": str(d / f"vox_{TEST}.h5")}
+    np.testing.assert_array_equal(skeleton.offsets, load_model(d / "model.h5").skeleton.offsets)
+    run("render", tmp_path / "v.h5", "--every", 6, "-o", tmp_path / "v.gif")
+    from PIL import Image
+
+    with Image.open(tmp_path / "v.gif") as gif:
+        assert gif.n_frames == 4 and gif.format == "GIF"
+
+
+def _without_frame(seq, f):
+    """The sequence with frame ``f``'s voxels removed (an empty hull)."""
+    from voxpose.voxels.sequence import VoxelSequence
+
+    a, b = seq.offsets[f], seq.offsets[f + 1]
+    ba, bb = seq.basis_offsets[f], seq.basis_offsets[f + 1]
+    offsets = seq.offsets.copy()
+    offsets[f + 1 :] -= b - a
+    basis_offsets = seq.basis_offsets.copy()
+    basis_offsets[f + 1 :] -= bb - ba
+    empty = seq.empty.copy()
+    empty[f] = True
+    return VoxelSequence(
+        l_res=seq.l_res, h_sub=seq.h_sub, h_sub_frame=seq.h_sub_frame, ijk=np.delete(seq.ijk, np.s_[a:b], axis=0),
+        offsets=offsets, surface=np.delete(seq.surface, np.s_[a:b]), basis=np.delete(seq.basis, np.s_[ba:bb]),
+        basis_offsets=basis_offsets, empty=empty, shifts=seq.shifts,
+    )  # fmt: skip
+
+
+def test_empty_hull_frames_are_gaps_not_estimates(trained, tmp_path):
+    from voxpose.voxels.sequence import read_voxels, write_voxels
+
+    d = trained
+    seq, meta, angles = read_voxels(d / f"vox_{TEST}.h5")
+    write_voxels(tmp_path / "gappy.h5", _without_frame(_without_frame(seq, 0), 5), meta, angles=angles)
+    run("predict", d / "model.h5", "--voxels", tmp_path / "gappy.h5", "-o", tmp_path / "g.bvh")
+    full = read_per_motion(d / "predictions.h5", "predictions")[0][TEST]["pred_mvrvm"]
+    table = pd.read_csv(tmp_path / "g.csv")
+    gaps = [0, 5]
+    assert table.loc[gaps, "valid"].tolist() == [0, 0] and table.drop(index=gaps)["valid"].all()
+    assert table.loc[gaps, list(canon.ANGLE_NAMES)].isna().all().all()
+    kept = np.setdiff1d(np.arange(24), gaps)
+    np.testing.assert_allclose(table.loc[kept, list(canon.ANGLE_NAMES)].to_numpy(), full[kept], atol=1e-5)
+    bvh_angles, root = angles_from_bvh(read_bvh(tmp_path / "g.bvh"))
+    assert (bvh_angles[gaps] == 0).all()  # the rest pose, not an estimate
+    np.testing.assert_array_equal(root[0], root[1])  # a leading gap takes the first estimated frame's root
+    np.testing.assert_array_equal(root[5], root[4])  # a later gap, the previous frame's
+
+
+def test_rig_that_does_not_match_the_image_folders(trained, tmp_path, capsys):
+    from voxpose.voxels.cameras import circular_rig, save_rig
+
+    save_rig(circular_rig(n=4, width=128, image_height=128, focal_px=150.0, name="four"), tmp_path / "four.json")
+    proc = voxpose(capsys, "predict", trained / "model.h5", "--rig", tmp_path / "four.json", "--silhouettes",
+                   trained / "sil", "-o", tmp_path / "out.bvh")  # fmt: skip
+    one_line_error(proc, str(trained / "sil"), "rig four")
+    _outputs_absent(tmp_path)
+
+
+def test_model_file_of_another_format_or_damaged(trained, tmp_path, capsys):
+    other = tmp_path / "other.h5"
+    other.write_bytes((trained / "model.h5").read_bytes())
+    with h5py.File(other, "r+") as f:
+        f.attrs["model_format"] = 2
+    proc = voxpose(capsys, "predict", other, "--voxels", trained / f"vox_{TEST}.h5", "-o", tmp_path / "out.bvh")
+    one_line_error(proc, str(other), "model file of format 2, this voxpose reads format 1")
+    damaged = tmp_path / "damaged.h5"
+    damaged.write_bytes((trained / "model.h5").read_bytes()[:3000])
+    proc = voxpose(capsys, "predict", damaged, "--voxels", trained / f"vox_{TEST}.h5", "-o", tmp_path / "out.bvh")
+    one_line_error(proc, str(damaged), "cannot read model file")
+    proc = voxpose(capsys, "predict", trained / "features_model.h5", "--voxels", trained / f"vox_{TEST}.h5", "-o",
+                   tmp_path / "out.bvh")  # fmt: skip
+    one_line_error(proc, "expected a voxpose model file, found feature-model")
+    _outputs_absent(tmp_path)
+
+
+def test_images_that_are_not_binary_masks(trained, tmp_path, capsys):
+    import shutil
+
+    from PIL import Image
+
+    sil = tmp_path / "sil"
+    shutil.copytree(trained / "sil", sil)
+    bad = sorted((sil / "cam0").iterdir())[7]
+    grey = (np.arange(128 * 128) % 7 * 30).astype(np.uint8).reshape(128, 128)
+    Image.fromarray(grey).save(bad)
+    proc = voxpose(capsys, "predict", trained / "model.h5", "--rig", trained / "rig.json", "--silhouettes", sil,
+                   "-o", tmp_path / "out.bvh")  # fmt: skip
+    one_line_error(proc, str(bad), "not a binary mask")
+    _outputs_absent(tmp_path)
+
+
+def test_voxels_carved_at_another_resolution_are_refused(trained, tmp_path, capsys):
+    other = dict(VOXELS, l_res_fraction=1 / 25)
+    run("voxelize", trained / f"{TEST}.h5", "--rig", trained / "rig.json", "--params", json.dumps(other), "-o",
+        tmp_path / "coarse.h5")  # fmt: skip
+    proc = voxpose(
+        capsys, "predict", trained / "model.h5", "--voxels", tmp_path / "coarse.h5", "-o", tmp_path / "out.bvh"
+    )
+    one_line_error(proc, str(tmp_path / "coarse.h5"), "the model needs 0.0333333")
+    _outputs_absent(tmp_path)
+
+
+def test_smoothing_keeps_straight_lines_and_respects_gaps_and_wraps():
+    from voxpose.apply.predict import smooth_angles
+
+    t = np.arange(60, dtype=float)
+    angles = np.tile(t[:, None], (1, canon.N_ANGLES)) * 2.0
+    angles[:, 0] = (100.0 + 3.0 * t + 180.0) % 360.0 - 180.0  # a heading that wraps at +-180
+    angles[36:41] += np.where(np.arange(5) % 2, 4.0, -4.0)[:, None]  # jitter the smoothing must remove
+    valid = np.ones(60, dtype=bool)
+    valid[50] = False
+    angles[50] = np.nan
+    out = smooth_angles(angles, valid, 2.0)
+    assert np.isnan(out[50]).all() and np.isfinite(np.delete(out, 50, axis=0)).all()
+    line = 2.0 * t
+    # the kernel reaches 8 frames (4 sigma): beyond that from the run's ends and the jitter, a line stays a line
+    np.testing.assert_allclose(out[8:28, 1], line[8:28], atol=1e-9)
+    assert np.abs(out[36:41, 1] - line[36:41]).max() < 0.5  # the +-4 degree jitter shrinks below 0.5
+    np.testing.assert_allclose(out[51:, 1], smooth_angles(angles[51:], valid[51:], 2.0)[:, 1])  # runs apart
+    heading = np.mod(out[8:28, 0] - (100.0 + 3.0 * t[8:28]) + 180.0, 360.0) - 180.0
+    assert np.abs(heading).max() < 1e-9  # unwrapped before smoothing: the wrap near frame 27 does not smear
+    np.testing.assert_array_equal(smooth_angles(angles, valid, 0.0), angles)

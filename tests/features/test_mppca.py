@@ -1,0 +1,305 @@
+"""MPPCA against independent references: dense Gaussian densities, a literal Appendix C step, the spherical
+Gaussian mixture update, closed-form PPCA, and planted mixtures."""
+
+import numpy as np
+import pytest
+from scipy.linalg import subspace_angles
+from scipy.special import logsumexp
+from scipy.stats import multivariate_normal
+
+import voxpose.features.mppca as mppca_module
+from voxpose.errors import VoxposeError
+from voxpose.features.mppca import MPPCA
+
+
+def dense_log_joint(X, weights, means, components, noise):
+    """log pi_i + log N(x; mu_i, W_i W_i^T + sigma_i^2 I) with dense covariances, shape (n, K)."""
+    d = X.shape[1]
+    return np.stack(
+        [
+            np.log(w) + multivariate_normal(mu, W @ W.T + s * np.eye(d)).logpdf(X)
+            for w, mu, W, s in zip(weights, means, components, noise, strict=True)
+        ],
+        axis=1,
+    )
+
+
+def params(model):
+    return model.weights_, model.means_, model.components_, model.noise_variance_
+
+
+def overlapping_clusters(seed, n_per=150, d=5):
+    """Three anisotropic Gaussian clusters that overlap, so EM has work to do."""
+    rng = np.random.default_rng(seed)
+    parts = []
+    for _ in range(3):
+        mix = rng.normal(size=(d, d))
+        parts.append(2.0 * rng.normal(size=d) + rng.normal(size=(n_per, d)) @ mix)
+    return np.concatenate(parts)
+
+
+def closed_form_ppca(X, q):
+    """Maximum-likelihood PPCA (Tipping & Bishop 1999): mean, W W^T, sigma^2, mean log-likelihood."""
+    mean = X.mean(axis=0)
+    S = (X - mean).T @ (X - mean) / len(X)
+    eigval, eigvec = np.linalg.eigh(S)
+    eigval, eigvec = eigval[::-1], eigvec[:, ::-1]
+    noise = eigval[q:].mean()
+    WWt = eigvec[:, :q] @ np.diag(eigval[:q] - noise) @ eigvec[:, :q].T
+    d = X.shape[1]
+    loglik = -0.5 * (d * np.log(2 * np.pi) + np.log(eigval[:q]).sum() + (d - q) * np.log(noise) + d)
+    return mean, WWt, noise, loglik
+
+
+def test_score_samples_and_responsibilities_equal_dense_covariances():
+    X = overlapping_clusters(0)
+    model = MPPCA(3, n_latent=2, max_iter=5, random_state=0, chunk_size=37).fit(X)
+    reference = dense_log_joint(X, *params(model))
+    np.testing.assert_allclose(model.score_samples(X), logsumexp(reference, axis=1), rtol=1e-10)
+    np.testing.assert_allclose(
+        model.predict_proba(X), np.exp(reference - logsumexp(reference, axis=1, keepdims=True)), atol=1e-10
+    )
+    assert model.score(X) == pytest.approx(model.log_likelihood_[-1], rel=1e-12)
+
+
+def test_fit_is_translation_equivariant_far_from_the_origin():
+    X = overlapping_clusters(14)
+    near = MPPCA(3, n_latent=2, max_iter=10, random_state=5).fit(X)
+    far = MPPCA(3, n_latent=2, max_iter=10, random_state=5).fit(X + 1e4)
+    np.testing.assert_allclose(far.log_likelihood_, near.log_likelihood_, rtol=1e-8)
+    np.testing.assert_allclose(far.means_ - 1e4, near.means_, atol=1e-7)
+    np.testing.assert_allclose(far.noise_variance_, near.noise_variance_, rtol=1e-7)
+    np.testing.assert_allclose(far.score_samples(X + 1e4), near.score_samples(X), rtol=1e-8)
+
+
+def test_one_em_step_equals_literal_appendix_c_update():
+    X = overlapping_clusters(1)
+    start = MPPCA(3, n_latent=2, max_iter=0, random_state=4).fit(X)
+    stepped = MPPCA(3, n_latent=2, max_iter=1, tol=0.0, random_state=4).fit(X)
+    weights, means, components, noise = params(start)
+    log_joint = dense_log_joint(X, weights, means, components, noise)
+    R = np.exp(log_joint - logsumexp(log_joint, axis=1, keepdims=True))
+    n, d = X.shape
+    for i in range(3):
+        Ni = R[:, i].sum()
+        mu = R[:, i] @ X / Ni
+        S = (R[:, i, None] * (X - mu)).T @ (X - mu) / Ni
+        W, s2 = components[i], noise[i]
+        Minv = np.linalg.inv(s2 * np.eye(2) + W.T @ W)
+        W_new = S @ W @ np.linalg.inv(s2 * np.eye(2) + Minv @ W.T @ S @ W)
+        s2_new = np.trace(S - S @ W @ Minv @ W_new.T) / d
+        assert stepped.weights_[i] == pytest.approx(Ni / n, rel=1e-10)
+        np.testing.assert_allclose(stepped.means_[i], mu, rtol=1e-10, atol=1e-10)
+        np.testing.assert_allclose(stepped.components_[i], W_new, rtol=1e-8, atol=1e-10)
+        assert stepped.noise_variance_[i] == pytest.approx(s2_new, rel=1e-9)
+    assert not np.allclose(stepped.means_, means, atol=1e-3)  # the step moved: the comparison has teeth
+
+
+def test_q0_step_equals_spherical_gaussian_mixture_update():
+    X = overlapping_clusters(2)
+    start = MPPCA(3, n_latent=0, max_iter=0, random_state=1).fit(X)
+    stepped = MPPCA(3, n_latent=0, max_iter=1, tol=0.0, random_state=1).fit(X)
+    weights, means, variances = start.weights_, start.means_, start.noise_variance_
+    n, d = X.shape
+    sq = ((X[:, None, :] - means[None, :, :]) ** 2).sum(axis=2)
+    log_joint = np.log(weights) - 0.5 * d * np.log(2 * np.pi * variances) - sq / (2 * variances)
+    R = np.exp(log_joint - logsumexp(log_joint, axis=1, keepdims=True))
+    Nk = R.sum(axis=0)
+    new_means = R.T @ X / Nk[:, None]
+    new_var = (R * ((X[:, None, :] - new_means[None]) ** 2).sum(axis=2)).sum(axis=0) / (d * Nk)
+    np.testing.assert_allclose(stepped.weights_, Nk / n, rtol=1e-10)
+    np.testing.assert_allclose(stepped.means_, new_means, rtol=1e-10, atol=1e-10)
+    np.testing.assert_allclose(stepped.noise_variance_, new_var, rtol=1e-10)
+    assert stepped.components_.shape == (3, X.shape[1], 0)
+    assert start.log_likelihood_[0] == pytest.approx(logsumexp(log_joint, axis=1).mean(), rel=1e-12)
+
+
+def test_single_component_is_closed_form_ppca():
+    rng = np.random.default_rng(3)
+    X = rng.normal(size=(2000, 6)) @ rng.normal(size=(6, 6)) + rng.normal(size=6)
+    model = MPPCA(1, n_latent=2, max_iter=5, tol=0.0, random_state=0).fit(X)
+    mean, WWt, noise, loglik = closed_form_ppca(X, 2)
+    W = model.components_[0]
+    np.testing.assert_allclose(model.means_[0], mean, rtol=1e-10, atol=1e-10)
+    np.testing.assert_allclose(W @ W.T, WWt, rtol=1e-8, atol=1e-10)
+    assert model.noise_variance_[0] == pytest.approx(noise, rel=1e-8)
+    np.testing.assert_allclose(model.log_likelihood_, loglik, rtol=1e-10)
+    assert model.n_iter_ >= 1  # at least one EM step, which kept the maximum-likelihood fixed point
+
+
+def planted_mixture(seed, counts, d=12, q=2, noise=0.05):
+    """Well-separated PPCA components with planted subspaces; returns X, labels, means, bases, noise."""
+    rng = np.random.default_rng(seed)
+    K = len(counts)
+    means = 15.0 * rng.standard_normal((K, d))
+    bases = [np.linalg.qr(rng.standard_normal((d, q)))[0] for _ in range(K)]
+    scales = np.array([3.0, 1.5])
+    parts = [
+        means[k] + (rng.standard_normal((n, q)) * scales) @ bases[k].T + np.sqrt(noise) * rng.standard_normal((n, d))
+        for k, n in enumerate(counts)
+    ]
+    labels = np.repeat(np.arange(K), counts)
+    order = rng.permutation(labels.size)
+    return np.concatenate(parts)[order], labels[order], means, bases, noise
+
+
+def test_planted_mixture_is_recovered():
+    counts = [400, 800, 1200, 1600]
+    X, labels, means, bases, noise = planted_mixture(5, counts)
+    model = MPPCA(4, n_latent=2, random_state=2).fit(X)
+    assert model.converged_
+    match = [int(np.argmin(((model.means_ - m) ** 2).sum(axis=1))) for m in means]
+    assert sorted(match) == [0, 1, 2, 3]
+    for k, i in enumerate(match):
+        group = X[labels == k]
+        mean, WWt, group_noise, _ = closed_form_ppca(group, 2)
+        # separated components: EM reaches each group's own maximum-likelihood PPCA
+        assert model.weights_[i] == pytest.approx(counts[k] / len(X), abs=1e-6)
+        np.testing.assert_allclose(model.means_[i], mean, atol=1e-6)
+        np.testing.assert_allclose(model.components_[i] @ model.components_[i].T, WWt, atol=1e-5)
+        # and the planted parameters, up to sampling error
+        assert np.max(subspace_angles(model.components_[i], bases[k])) < 0.05
+        assert model.noise_variance_[i] == pytest.approx(noise, rel=0.1)
+    assert model.n_reseeded_ == 0
+
+
+def test_log_likelihood_never_decreases():
+    X = overlapping_clusters(6, n_per=200)
+    model = MPPCA(4, n_latent=1, max_iter=40, tol=0.0, random_state=0).fit(X)
+    history = np.array(model.log_likelihood_)
+    assert model.n_reseeded_ == 0 and len(history) == 41
+    assert np.diff(history).min() >= -1e-12 * np.abs(history).max()
+    assert history[-1] - history[0] > 1e-3  # EM did improve on the initialisation
+
+
+def test_same_seed_gives_identical_fit_and_chunking_does_not_matter():
+    X = overlapping_clusters(7)
+    a = MPPCA(3, n_latent=2, max_iter=10, random_state=11, chunk_size=13).fit(X)
+    b = MPPCA(3, n_latent=2, max_iter=10, random_state=11, chunk_size=13).fit(X)
+    c = MPPCA(3, n_latent=2, max_iter=10, random_state=11, chunk_size=len(X)).fit(X)
+    for x, y in zip(params(a), params(b), strict=True):
+        np.testing.assert_array_equal(x, y)
+    assert a.log_likelihood_ == b.log_likelihood_
+    for x, y in zip(params(a), params(c), strict=True):
+        np.testing.assert_allclose(x, y, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(a.log_likelihood_, c.log_likelihood_, rtol=1e-12)
+
+
+@pytest.mark.parametrize("dataset", ["separated", "overlapping"])
+def test_sparse_and_dense_statistics_agree(monkeypatch, dataset):
+    X = planted_mixture(15, [300, 300, 300])[0] if dataset == "separated" else overlapping_clusters(15)
+    model = MPPCA(3, n_latent=2, max_iter=3, random_state=0).fit(X)
+    proj = mppca_module._project(mppca_module._Params(*params(model)))
+    stats = {}
+    for path, fraction in [("sparse", 1.0), ("dense", 0.0)]:
+        monkeypatch.setattr(mppca_module, "_SPARSE_FRACTION", fraction)
+        stats[path] = mppca_module._accumulate(X, proj, chunk_size=50)
+    for a, b in zip(stats["sparse"], stats["dense"], strict=True):
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-9)
+    R = model.predict_proba(X)
+    np.testing.assert_allclose(stats["sparse"].counts, R.sum(axis=0), rtol=1e-12)
+    np.testing.assert_allclose(stats["sparse"].sums, R.T @ (X - proj.offset), rtol=1e-10, atol=1e-9)
+
+
+def test_noise_variance_floor_holds_a_collapsed_component():
+    rng = np.random.default_rng(8)
+    X = np.concatenate([rng.normal(size=(200, 4)), np.tile([20.0, 20.0, 20.0, 20.0], (50, 1))])
+    model = MPPCA(2, n_latent=1, min_noise_variance=1e-6, random_state=0).fit(X)
+    assert model.noise_variance_floor_ == pytest.approx(1e-6 * np.var(X, axis=0).mean(), rel=1e-12)
+    collapsed = int(np.argmin(((model.means_ - 20.0) ** 2).sum(axis=1)))
+    assert model.noise_variance_[collapsed] == model.noise_variance_floor_
+    assert model.noise_variance_[1 - collapsed] > 0.5
+    assert np.isfinite(model.score_samples(X)).all()
+
+
+def test_starved_component_is_reseeded_once_then_left_to_its_rows(caplog):
+    rng = np.random.default_rng(9)
+    outlier = [1000.0, 1000.0, 1000.0]
+    X = np.concatenate([rng.normal(size=(300, 3)), 10.0 + rng.normal(size=(300, 3)), [outlier]])
+    with caplog.at_level("INFO", logger="voxpose.features.mppca"):
+        model = MPPCA(3, n_latent=2, max_iter=50, random_state=0).fit(X)
+    # k-means++ seeds a centre on the outlier; its one-row cluster cannot support q = 2 and is re-seeded ...
+    assert "initialisation: re-seeded 1 starved" in caplog.text
+    # ... EM pulls a component back onto the outlier, which is then kept, its variance held by the floor
+    assert 1 <= model.n_reseeded_ <= 3 and model.converged_  # each slot re-seeded at most once
+    on_outlier = int(np.argmin(((model.means_ - outlier) ** 2).sum(axis=1)))
+    np.testing.assert_allclose(model.means_[on_outlier], outlier, atol=1e-6)
+    assert model.noise_variance_[on_outlier] == model.noise_variance_floor_
+    np.testing.assert_allclose(np.sort(model.predict_proba(X).sum(axis=0)), [1, 300, 300], atol=1e-6)
+
+
+def test_reseed_splits_the_heaviest_component_along_its_principal_axis():
+    W = np.zeros((3, 4, 1))
+    W[1, :, 0] = [0.0, 3.0, 0.0, 0.0]  # the heaviest component's principal axis is e_2 with variance 9 + 1
+    start = mppca_module._Params(np.array([0.1, 0.6, 0.3]), np.arange(12.0).reshape(3, 4), W, np.array([1.0, 1.0, 2.0]))
+    split = mppca_module._reseed(start, np.array([True, False, False]), np.random.default_rng(0))
+    shift = np.sqrt(2 / np.pi * 10.0) * np.array([0.0, 1.0, 0.0, 0.0])
+    moved = split.means[0] - start.means[1]
+    np.testing.assert_allclose(moved * np.sign(moved[1]), shift, atol=1e-12)  # u is defined up to sign
+    np.testing.assert_allclose(split.means[1] - start.means[1], -moved, atol=1e-12)
+    np.testing.assert_allclose(split.weights, np.array([0.3, 0.3, 0.3]) / 0.9)
+    np.testing.assert_array_equal(split.components[0], W[1])
+    assert split.noise_variance[0] == 1.0
+    np.testing.assert_array_equal(split.means[2], start.means[2])
+
+
+def test_component_that_loses_all_rows_during_em_is_reseeded(monkeypatch, caplog):
+    X, labels, means, _, _ = planted_mixture(13, [500, 500])
+    real_initialise = mppca_module._initialise
+
+    def stranded(X, n_components, n_latent, chunk_size, rng):
+        params, starved = real_initialise(X, 2, n_latent, chunk_size, rng)
+        far = mppca_module._Params(
+            np.append(params.weights, 1e-3),
+            np.vstack([params.means, np.full(X.shape[1], 1e4)]),
+            np.concatenate([params.components, params.components[:1]]),
+            np.append(params.noise_variance, 1.0),
+        )
+        return far, np.append(starved, False)
+
+    monkeypatch.setattr(mppca_module, "_initialise", stranded)
+    with caplog.at_level("INFO", logger="voxpose.features.mppca"):
+        model = MPPCA(3, n_latent=2, max_iter=50, random_state=0).fit(X)
+    assert "EM iteration 1: " in caplog.text and "re-seeded 1" in caplog.text
+    assert 1 <= model.n_reseeded_ <= 3 and model.converged_  # each slot re-seeded at most once
+    assert np.all(np.linalg.norm(model.means_, axis=1) < 100.0)  # nobody left stranded at 1e4
+    np.testing.assert_allclose(model.predict_proba(X).sum(axis=0).sum(), len(X))
+    assert model.predict_proba(X).sum(axis=0).min() > 3
+
+
+GOOD = np.random.default_rng(12).normal(size=(40, 4))
+
+
+@pytest.mark.parametrize(
+    ("X", "kwargs", "message"),
+    [
+        (np.where(np.arange(160).reshape(40, 4) == 13, np.nan, GOOD), {}, "row 3 contains NaN"),
+        (np.where(np.arange(160).reshape(40, 4) == 41, np.inf, GOOD), {}, "row 10 contains NaN or infinite"),
+        (GOOD[:8], {}, "needs at least 9 rows"),
+        (GOOD, {"n_latent": 4}, "n_latent"),
+        (GOOD, {"n_latent": -1}, "n_latent"),
+        (GOOD, {"n_components": 0}, "n_components"),
+        (GOOD, {"init": "random"}, "init"),
+        (GOOD, {"min_noise_variance": 0.0}, "min_noise_variance"),
+        (GOOD, {"max_iter": -1}, "max_iter"),
+        (GOOD, {"tol": np.nan}, "tol"),
+        (GOOD, {"chunk_size": 0}, "chunk_size"),
+        (np.ones((40, 4)), {"n_components": 1}, "zero variance"),
+        (GOOD[:, 0], {}, "2-D"),
+    ],
+)
+def test_bad_fit_input_raises(X, kwargs, message):
+    settings = {"n_components": 3, "n_latent": 2, "random_state": 0} | kwargs
+    with pytest.raises(VoxposeError, match=message):
+        MPPCA(**settings).fit(X)
+
+
+def test_scoring_checks_fit_and_dimension():
+    with pytest.raises(VoxposeError, match="not fitted"):
+        MPPCA(2).score_samples(GOOD)
+    model = MPPCA(2, n_latent=1, max_iter=2, random_state=0).fit(GOOD)
+    for method in (model.score_samples, model.predict_proba, model.score):
+        with pytest.raises(VoxposeError, match="5 features per row, the model was fitted with 4"):
+            method(np.zeros((3, 5)))
+    with pytest.raises(VoxposeError, match="row 1"):
+        model.predict_proba(np.array([[0.0, 0, 0, 0], [0, np.nan, 0, 0]]))

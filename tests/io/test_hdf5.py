@@ -1,0 +1,68 @@
+"""HDF5 layouts: round trips, atomic writes, clear errors for the wrong or a damaged file."""
+
+import h5py
+import numpy as np
+import pytest
+
+from voxpose.descriptors.file import read_descriptors, write_descriptors
+from voxpose.errors import VoxposeError
+from voxpose.io.atomic import atomic_path
+from voxpose.io.hdf5 import read_arrays, write_arrays
+from voxpose.motion.data import MotionData, read_motion, write_motion
+
+
+def _motion(n=5):
+    rng = np.random.default_rng(0)
+    return MotionData(
+        name="walk_x",
+        kind="walk",
+        fps=30.0,
+        positions=rng.normal(size=(n, 14, 3)),
+        rotations=np.tile(np.eye(3), (n, 14, 1, 1)),
+        angles=rng.normal(size=(n, 42)),
+        ends=rng.normal(size=(n, 5, 3)),
+        offsets=rng.normal(size=(14, 3)),
+        height=1.75,
+        source={"path": "walk_x.bvh", "unit": 0.01},
+    )
+
+
+def test_motion_round_trip(tmp_path):
+    m = _motion()
+    write_motion(tmp_path / "m.h5", m)
+    back = read_motion(tmp_path / "m.h5")
+    for key in ("positions", "rotations", "angles", "ends", "offsets"):
+        assert np.array_equal(getattr(back, key), getattr(m, key))
+    assert (back.name, back.kind, back.fps, back.height, back.source) == (m.name, m.kind, m.fps, m.height, m.source)
+
+
+def test_atomic_path_leaves_nothing_on_error(tmp_path):
+    with pytest.raises(RuntimeError), atomic_path(tmp_path / "out.h5") as tmp:
+        tmp.write_text("partial")
+        raise RuntimeError("boom")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_descriptors_round_trip_ragged(tmp_path):
+    rng = np.random.default_rng(1)
+    desc = [rng.random((n, 8)) for n in (3, 0, 5)]
+    ijk = [rng.integers(0, 9, (n, 3)) for n in (3, 0, 5)]
+    write_descriptors(tmp_path / "d.h5", desc, ijk, {"n_r": 2})
+    d2, i2, meta = read_descriptors(tmp_path / "d.h5")
+    assert [len(d) for d in d2] == [3, 0, 5]
+    assert all(np.allclose(a, b, rtol=1e-6) for a, b in zip(desc, d2, strict=True))
+    assert all(np.array_equal(a, b) for a, b in zip(ijk, i2, strict=True))
+    assert meta == {"n_r": 2}
+
+
+def test_wrong_layout_and_version_and_damage_are_clear(tmp_path):
+    write_arrays(tmp_path / "a.h5", "mppca", {"w": np.ones(3)}, {})
+    with pytest.raises(VoxposeError, match=r"a.h5: expected a voxpose kmeans file, found mppca"):
+        read_arrays(tmp_path / "a.h5", "kmeans")
+    with h5py.File(tmp_path / "a.h5", "r+") as f:
+        f.attrs["version"] = 99
+    with pytest.raises(VoxposeError, match="layout version 99"):
+        read_arrays(tmp_path / "a.h5", "mppca")
+    (tmp_path / "bad.h5").write_bytes(b"not hdf5 at all")
+    with pytest.raises(VoxposeError, match=r"bad.h5: cannot read mppca file"):
+        read_arrays(tmp_path / "bad.h5", "mppca")

@@ -1,0 +1,457 @@
+"""The synthetic motions: skeleton proportions, determinism, the five types' statistics, feet, limits, I/O."""
+
+import numpy as np
+import pytest
+from scipy.ndimage import gaussian_filter1d
+
+from voxpose.errors import VoxposeError
+from voxpose.io.bvh import read_bvh, write_bvh
+from voxpose.motion.bvh_kinematics import forward_kinematics
+from voxpose.motion.generate import (
+    JOINT_NAMES,
+    KINDS,
+    _toe_rocker,
+    default_skeleton,
+    generate_motion,
+    leg_ik,
+    random_walk_heading,
+    smooth_noise,
+    spiral_heading,
+    spiral_radius,
+    write_default_set,
+)
+from voxpose.motion.load import load_motion
+from voxpose.motion.rotations import axis_angle_to_matrix, axis_rotation
+
+FPS = 30
+SEEDS = (0, 1, 2)
+GAITS = ("walk", "drunk", "spiral", "jog")
+EXPECTED_NAMES = (
+    "Hips Spine Chest Neck Head LeftShoulder LeftArm LeftForeArm LeftHand RightShoulder RightArm "
+    "RightForeArm RightHand LeftUpLeg LeftLeg LeftFoot LeftToe RightUpLeg RightLeg RightFoot RightToe"
+).split()
+J = {name: i for i, name in enumerate(JOINT_NAMES)}
+
+
+def rest_points(joints):
+    """Rest-pose positions of joints and End Sites by summing OFFSETs down the tree (independent FK)."""
+    pos = np.zeros((len(joints), 3))
+    ends = {}
+    for i, joint in enumerate(joints):
+        pos[i] = joint.offset + (pos[joint.parent] if joint.parent >= 0 else 0.0)
+        if joint.end_site is not None:
+            ends[joint.name] = pos[i] + joint.end_site
+    return pos, ends
+
+
+def standing_height_from_bones(joints) -> float:
+    pos, ends = rest_points(joints)
+    return ends["Head"][1] - min(ends["LeftToe"][1], ends["RightToe"][1], pos[:, 1].min())
+
+
+@pytest.fixture(scope="module")
+def motions():
+    """{kind: [(bvh, (positions, rotations, end sites))]} for three seeds, 150 frames each."""
+    out = {}
+    for kind in KINDS:
+        out[kind] = []
+        for seed in SEEDS:
+            bvh = generate_motion(kind, seed=seed, n_frames=150, fps=FPS)
+            out[kind].append((bvh, forward_kinematics(bvh)))
+    return out
+
+
+def root_speed(fk) -> float:
+    root = fk[0][:, 0]
+    return float(np.mean(np.linalg.norm(np.diff(root[:, [0, 2]], axis=0), axis=1)) * FPS)
+
+
+def heading(fk) -> np.ndarray:
+    """Body heading (radians) from the root's forward axis, smoothed over 1 s (removes pelvic yaw)."""
+    forward = fk[1][:, 0, :, 2]
+    return gaussian_filter1d(np.unwrap(np.arctan2(forward[:, 0], forward[:, 2])), FPS, mode="nearest")
+
+
+def heading_rate(fk) -> float:
+    return float(np.degrees(np.mean(np.abs(np.gradient(heading(fk)) * FPS))))
+
+
+def foot_points(fk) -> np.ndarray:
+    """(F, 2, 3, 3): per foot (left, right), the ankle, toe joint and toe End Site."""
+    pos, _, ends = fk
+    return np.stack(
+        [np.stack([pos[:, J[s + "Foot"]], pos[:, J[s + "Toe"]], ends[J[s + "Toe"]]], 1) for s in ("Left", "Right")],
+        1,
+    )
+
+
+def segment_distance(a0, a1, b0, b1, samples: int = 21) -> np.ndarray:
+    """(F,) smallest distance between segments a0-a1 and b0-b1 (each (F, 3)), by dense sampling."""
+    s = np.linspace(0.0, 1.0, samples)[None, :, None]
+    a = a0[:, None] + s * (a1 - a0)[:, None]
+    b = b0[:, None] + s * (b1 - b0)[:, None]
+    return np.linalg.norm(a[:, :, None] - b[:, None, :], axis=-1).min(axis=(1, 2))
+
+
+def in_pelvis_frame(fk, points: np.ndarray) -> np.ndarray:
+    """(F, 3) world points in the root's local frame (x: the subject's left, y: up, z: forward)."""
+    pos, rot, _ = fk
+    return np.einsum("fba,fb->fa", rot[:, 0], points - pos[:, 0])
+
+
+def knee_flexion(fk, side: str) -> np.ndarray:
+    """Signed knee flexion (degrees) from joint positions: positive when the shank folds backwards."""
+    pos, rot, _ = fk
+    thigh = pos[:, J[side + "Leg"]] - pos[:, J[side + "UpLeg"]]
+    shank = pos[:, J[side + "Foot"]] - pos[:, J[side + "Leg"]]
+    cos = np.sum(thigh * shank, 1) / np.linalg.norm(thigh, axis=1) / np.linalg.norm(shank, axis=1)
+    sign = np.sign(np.sum(np.cross(thigh, shank) * rot[:, J[side + "UpLeg"], :, 0], 1))
+    return np.degrees(np.arccos(np.clip(cos, -1, 1))) * np.where(sign == 0, 1, sign)
+
+
+# --- skeleton -------------------------------------------------------------------------------------
+@pytest.mark.parametrize("height", [1.5, 1.75, 2.0])
+def test_skeleton_names_channels_and_standing_height(height):
+    joints = default_skeleton(height)
+    assert [j.name for j in joints] == EXPECTED_NAMES
+    assert joints[0].parent == -1 and len(joints[0].channels) == 6
+    assert all(j.channels == ("Zrotation", "Xrotation", "Yrotation") for j in joints[1:])
+    assert all(0 <= j.parent < i for i, j in enumerate(joints) if i)
+    assert {j.name for j in joints if j.end_site is not None} == {
+        "Head",
+        "LeftHand",
+        "RightHand",
+        "LeftToe",
+        "RightToe",
+    }
+    assert standing_height_from_bones(joints) == pytest.approx(height, abs=1e-12)
+    pos, ends = rest_points(joints)
+    # Winter's proportions: hip joint 0.530 H above the toes' ground line, shoulder 0.818 H, mirror symmetry
+    assert pos[J["LeftUpLeg"], 1] - ends["LeftToe"][1] == pytest.approx(0.530 * height)
+    assert pos[J["LeftArm"], 1] - ends["LeftToe"][1] == pytest.approx(0.818 * height)
+    assert pos[J["LeftArm"], 0] - pos[J["RightArm"], 0] == pytest.approx(0.259 * height)
+    for name in EXPECTED_NAMES:
+        if name.startswith("Left"):
+            np.testing.assert_allclose(pos[J[name]] * [-1, 1, 1], pos[J[name.replace("Left", "Right")]])
+    assert ends["LeftHand"][0] > pos[J["LeftArm"], 0] > 0  # T-pose: left arm along +X
+
+
+def test_bad_arguments_are_voxpose_errors():
+    with pytest.raises(VoxposeError, match="unknown motion kind 'dance'"):
+        generate_motion("dance", seed=0, n_frames=10)
+    with pytest.raises(VoxposeError, match="n_frames"):
+        generate_motion("walk", seed=0, n_frames=1)
+    with pytest.raises(VoxposeError, match="height"):
+        generate_motion("walk", seed=0, n_frames=10, height=3.5)
+    with pytest.raises(VoxposeError, match="fps"):
+        generate_motion("walk", seed=0, n_frames=10, fps=0)
+    with pytest.raises(VoxposeError, match="height"):
+        default_skeleton(float("nan"))
+
+
+# --- determinism and heights ------------------------------------------------------------------------
+@pytest.mark.parametrize("kind", KINDS)
+def test_same_seed_same_motion_other_seed_other_motion(kind):
+    a = generate_motion(kind, seed=7, n_frames=40)
+    b = generate_motion(kind, seed=7, n_frames=40)
+    c = generate_motion(kind, seed=8, n_frames=40)
+    np.testing.assert_array_equal(a.motion, b.motion)
+    assert not np.allclose(a.motion, c.motion)
+
+
+def test_heights_drawn_in_range_and_given_height_is_the_skeletons(motions):
+    heights = [standing_height_from_bones(bvh.joints) for kind in KINDS for bvh, _ in motions[kind]]
+    assert all(1.5 <= h <= 2.0 for h in heights)
+    assert len({round(h, 6) for h in heights}) == len(SEEDS)  # drawn from the seed
+    bvh = generate_motion("walk", seed=3, n_frames=20, height=1.83)
+    assert standing_height_from_bones(bvh.joints) == pytest.approx(1.83, abs=1e-12)
+
+
+def test_loader_measures_the_drawn_height(tmp_path):
+    """The motion loader's height from bone lengths (in motion) agrees with the generator's skeleton."""
+    path = tmp_path / "walk_gen_00.bvh"
+    write_bvh(generate_motion("walk", seed=4, n_frames=60, height=1.62), path)
+    motion = load_motion(path)
+    assert motion.source["unit_scale"] == 1.0
+    assert motion.height == pytest.approx(1.62, rel=0.01)
+
+
+# --- the five types are distinct --------------------------------------------------------------------
+def test_speeds(motions):
+    speed = {kind: [root_speed(fk) for _, fk in motions[kind]] for kind in KINDS}
+    assert all(0.8 <= s <= 1.9 for kind in ("walk", "spiral", "drunk") for s in speed[kind])
+    assert min(speed["jog"]) > 1.3 * max(speed["walk"])
+    assert min(speed["jog"]) > 2.2
+    assert max(speed["jump"]) < 0.5 * min(speed["walk"])
+
+
+def test_pelvis_advances_steadily(motions):
+    """Walking and jogging: the root's speed varies little within a sequence (no lurching)."""
+    for kind in ("walk", "jog"):
+        for _, fk in motions[kind]:
+            speed = np.linalg.norm(np.diff(fk[0][:, 0, [0, 2]], axis=0), axis=1) * FPS
+            assert np.ptp(speed) < 0.1 * speed.mean()
+
+
+def test_vertical_root_range(motions):
+    ranges = {kind: [float(np.ptp(fk[0][:, 0, 1])) for _, fk in motions[kind]] for kind in KINDS}
+    assert max(ranges["walk"]) < 0.08
+    assert min(ranges["jog"]) > max(ranges["walk"])
+    assert min(ranges["jump"]) > 5 * max(ranges["walk"])
+
+
+def test_heading_rates(motions):
+    rate = {kind: [heading_rate(fk) for _, fk in motions[kind]] for kind in KINDS}
+    # walk and jog turn steadily at 15-30 degrees per second
+    assert 13.0 < min(rate["walk"] + rate["jog"]) and max(rate["walk"] + rate["jog"]) < 32.0
+
+    # the drunk heading wanders: it strays far more from a steady turn (a straight line in time) than the walk's
+    def wander(fk):
+        psi = np.degrees(heading(fk))[FPS:-FPS]  # without the ends, where the 1 s smoothing bends the line
+        t = np.arange(len(psi))
+        return float(np.std(psi - np.polyval(np.polyfit(t, psi, 1), t)))
+
+    strays = {kind: [wander(fk) for _, fk in motions[kind]] for kind in ("walk", "drunk")}
+    assert np.mean(strays["drunk"]) > 5 * np.mean(strays["walk"])
+
+
+def test_spiral_turns_one_way_with_growing_curvature(motions):
+    for _, fk in motions["spiral"]:
+        psi = heading(fk)
+        root = fk[0][:, 0, [0, 2]]
+        arc = np.concatenate([[0], np.cumsum(np.linalg.norm(np.diff(root, axis=0), axis=1))])
+        thirds = np.array_split(np.arange(len(psi)), 3)
+        curvature = [(psi[i[-1]] - psi[i[0]]) / (arc[i[-1]] - arc[i[0]]) for i in thirds]
+        assert np.all(np.sign(curvature) == np.sign(curvature[0]))
+        assert abs(curvature[2]) > abs(curvature[0]) * 1.1
+        assert 1 / 5.0 < abs(curvature[0]) and abs(curvature[2]) < 1 / 0.8  # radii of 0.8 .. 5 m
+
+
+def test_knee_flexion_ranges(motions):
+    def peak(kind):
+        return [max(knee_flexion(fk, "Left").max(), knee_flexion(fk, "Right").max()) for _, fk in motions[kind]]
+
+    assert min(peak("jog")) > max(peak("walk")) + 15
+    assert min(peak("jump")) > max(peak("walk"))
+    stance_jog = [np.percentile(knee_flexion(fk, "Left"), 5) for _, fk in motions["jog"]]
+    stance_walk = [np.percentile(knee_flexion(fk, "Left"), 5) for _, fk in motions["walk"]]
+    assert min(stance_jog) > max(stance_walk)  # running never straightens the knee as walking does
+
+
+def test_flight_phases(motions):
+    """Walking always has a foot on the ground; jogging and jumping have flights."""
+    for kind, airborne in (("walk", False), ("drunk", False), ("spiral", False), ("jog", True), ("jump", True)):
+        for _, fk in motions[kind]:
+            lowest = foot_points(fk)[..., 1].min(axis=(1, 2))
+            if airborne:
+                assert lowest.max() > (0.15 if kind == "jump" else 0.02)
+            else:
+                assert lowest.max() < 0.03
+
+
+def test_jump_arms_swing_over_the_head(motions):
+    for _, fk in motions["jump"]:
+        pos, _, ends = fk
+        hands = np.maximum(ends[J["LeftHand"]][:, 1], ends[J["RightHand"]][:, 1])
+        assert np.any(hands > ends[J["Head"]][:, 1])
+
+
+# --- feet and limits --------------------------------------------------------------------------------
+@pytest.mark.parametrize("kind", GAITS)
+def test_feet_touch_the_ground_every_stride_and_never_sink(motions, kind):
+    for bvh, fk in motions[kind]:
+        feet = foot_points(fk)[..., 1]
+        assert feet.min() > -1e-6
+        stride = int(FPS / 0.7)  # longer than any stride (cadence >= 0.7 strides/s)
+        for start in range(0, bvh.n_frames - stride, stride // 2):
+            window = feet[start : start + stride]
+            assert window[:, 0].min() < 0.01 and window[:, 1].min() < 0.01  # each foot lands
+
+
+@pytest.mark.parametrize("kind", GAITS + ("jump",))
+def test_planted_toes_do_not_slide(motions, kind):
+    for _, fk in motions[kind]:
+        toes = foot_points(fk)[:, :, 1:]  # toe joints and tips, (F, 2, 2, 3)
+        down = (toes[1:, ..., 1] < 0.002) & (toes[:-1, ..., 1] < 0.002)
+        slide = np.linalg.norm(np.diff(toes[..., [0, 2]], axis=0), axis=-1)[down]
+        # under 14 mm per frame: the turn (up to 30 deg/s) pivots a planted foot a little about its contact
+        assert slide.size > 0 and slide.max() < 0.014
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_joint_limits_and_no_limb_through_the_body(motions, kind):
+    for bvh, fk in motions[kind]:
+        pos, rot, ends = fk
+        height = standing_height_from_bones(bvh.joints)
+        for side, sign in (("Left", 1.0), ("Right", -1.0)):
+            knee = knee_flexion(fk, side)
+            assert knee.min() > -0.5 and knee.max() < 90.0
+            upper = pos[:, J[side + "ForeArm"]] - pos[:, J[side + "Arm"]]
+            fore = pos[:, J[side + "Hand"]] - pos[:, J[side + "ForeArm"]]
+            elbow = np.degrees(
+                np.arccos(np.sum(upper * fore, 1) / np.linalg.norm(upper, axis=1) / np.linalg.norm(fore, axis=1))
+            )
+            assert elbow.max() < 150.0
+            # in the pelvis frame the hands stay outside the hips
+            for point in (pos[:, J[side + "Hand"]], ends[J[side + "Hand"]]):
+                p = in_pelvis_frame(fk, point)
+                low = p[:, 1] < 0.0  # below the pelvis, beside the thighs
+                assert np.all(sign * p[low, 0] > 0.08 * height)
+        # the legs never pass through each other: thigh, shank and foot axes stay 0.05 H apart
+        for a, b in (("UpLeg", "Leg"), ("Leg", "Foot")):
+            gap = segment_distance(*(pos[:, J[s + n]] for s in ("Left", "Right") for n in (a, b)))
+            assert gap.min() > 0.05 * height
+        feet = segment_distance(*(p for s in ("Left", "Right") for p in (pos[:, J[s + "Foot"]], ends[J[s + "Toe"]])))
+        assert feet.min() > 0.05 * height
+
+
+# --- files ------------------------------------------------------------------------------------------
+def test_written_files_read_back_the_same(tmp_path, motions):
+    bvh = motions["spiral"][0][0]
+    path = tmp_path / "spiral_gen_00.bvh"
+    write_bvh(bvh, path)
+    back = read_bvh(path)
+    assert [(j.name, j.parent, j.channels) for j in back.joints] == [(j.name, j.parent, j.channels) for j in bvh.joints]
+    np.testing.assert_allclose(back.motion, bvh.motion, rtol=1e-5, atol=1e-4)
+    np.testing.assert_allclose(forward_kinematics(back)[0], motions["spiral"][0][1][0], atol=2e-4)
+    assert back.frame_time == pytest.approx(1 / FPS)
+
+
+def test_default_set_names_seeds_and_determinism(tmp_path):
+    spec = {
+        "walk": {"count": 2, "frames": 12},
+        "jump": {"count": 1, "frames": 15, "fps": 25},
+        "jog": {"count": 0, "frames": 5},
+    }
+    paths = write_default_set(tmp_path / "a", spec, seed=11)
+    assert [p.name for p in paths] == ["walk_gen_00.bvh", "walk_gen_01.bvh", "jump_gen_00.bvh"]
+    again = write_default_set(tmp_path / "b", spec, seed=11)
+    other = write_default_set(tmp_path / "c", spec, seed=12)
+    for p, q, r in zip(paths, again, other, strict=True):
+        assert p.read_bytes() == q.read_bytes() != r.read_bytes()
+    # each file depends only on (seed, kind, i): dropping the other kinds changes nothing
+    alone = write_default_set(tmp_path / "d", {"jump": spec["jump"]}, seed=11)
+    assert alone[0].read_bytes() == paths[2].read_bytes()
+    assert read_bvh(paths[2]).frame_time == pytest.approx(1 / 25)
+    assert read_bvh(paths[0]).n_frames == 12
+    assert sorted(p.name for p in (tmp_path / "a").iterdir()) == sorted(p.name for p in paths)
+
+
+@pytest.mark.parametrize(
+    "spec, message",
+    [
+        ({"run": {"count": 1, "frames": 10}}, "unknown kind 'run'"),
+        ({"walk": {"count": 1}}, "walk needs keys count, frames"),
+        ({"walk": {"count": -1, "frames": 10}}, "walk.count"),
+        ({"walk": {"count": 1, "frames": 1}}, "walk.frames"),
+        ({"walk": {"count": 1, "frames": 10, "fps": "x"}}, "walk.fps"),
+        ({"walk": {"count": 1, "frames": 10, "speed": 2}}, "walk needs keys"),
+        ([("walk", 1)], "spec must be a mapping"),
+    ],
+)
+def test_default_set_spec_errors(tmp_path, spec, message):
+    with pytest.raises(VoxposeError, match=message):
+        write_default_set(tmp_path, spec, seed=0)
+    assert not any(tmp_path.iterdir())
+
+
+# --- building blocks --------------------------------------------------------------------------------
+def test_spiral_heading_is_the_integral_of_the_curvature():
+    geometry = dict(r_start=4.0, r_end=1.0, length=10.0)
+    s = np.linspace(-1.0, 14.0, 30001)
+    psi = spiral_heading(s, **geometry)
+    assert psi[np.searchsorted(s, 0.0)] == pytest.approx(0.0, abs=1e-3)
+    curvature = np.gradient(psi, s)
+    expected = 1.0 / spiral_radius(s, **geometry)
+    inner = (np.abs(s) > 0.01) & (np.abs(s - 10.0) > 0.01)
+    np.testing.assert_allclose(curvature[inner], expected[inner], rtol=1e-5)
+    assert spiral_radius(12.0, **geometry) == 1.0 and spiral_radius(-1.0, **geometry) == 4.0
+    np.testing.assert_allclose(spiral_heading(s, r_start=2.0, r_end=2.0, length=5.0), s / 2.0)
+    with pytest.raises(VoxposeError, match="positive"):
+        spiral_heading(s, r_start=0.0, r_end=1.0, length=1.0)
+
+
+def test_random_walk_heading_diffuses_at_its_rate():
+    rng = np.random.default_rng(0)
+    dt, n = 1 / 30, 301
+    ends = np.array([random_walk_heading(rng, n, dt, rate=20.0, smooth_s=0.2)[-1] for _ in range(400)])
+    # starts at 0; after 10 s the spread is 20 * sqrt(10) degrees (a little less: the smoothing at the end)
+    assert np.std(ends) == pytest.approx(20.0 * np.sqrt(10.0), rel=0.15)
+    assert random_walk_heading(rng, n, dt, rate=20.0)[0] == 0.0
+
+
+def test_smooth_noise_has_unit_variance_whatever_its_width():
+    rng = np.random.default_rng(1)
+    for sigma in (3.0, 15.0):
+        x = smooth_noise(rng, 200_000, sigma)
+        assert np.var(x) == pytest.approx(1.0, rel=0.05)
+        lag = int(sigma)
+        assert np.corrcoef(x[:-lag], x[lag:])[0, 1] == pytest.approx(np.exp(-(lag**2) / (4 * sigma**2)), abs=0.03)
+
+
+def test_leg_ik_reaches_reachable_targets_and_straightens_towards_far_ones():
+    rng = np.random.default_rng(2)
+    lengths = (0.43, 0.42)
+    hip = rng.normal(size=(200, 3))
+    direction = rng.normal(size=(200, 3))
+    direction /= np.linalg.norm(direction, axis=1, keepdims=True)
+    dist = rng.uniform(0.05, 0.84, size=200)
+    ankle = hip + dist[:, None] * direction
+    axis = rng.normal(size=(200, 3))
+    frame, knee = leg_ik(hip, ankle, axis, lengths)
+    np.testing.assert_allclose(frame @ np.swapaxes(frame, 1, 2), np.broadcast_to(np.eye(3), (200, 3, 3)), atol=1e-12)
+    np.testing.assert_allclose(np.linalg.det(frame), 1.0)
+    shank = frame @ axis_rotation("X", knee)
+    reached = hip + lengths[0] * -frame[:, :, 1] + lengths[1] * -shank[:, :, 1]
+    np.testing.assert_allclose(reached, ankle, atol=1e-9)
+    # the hinge is the requested axis made perpendicular to the leg, and the knee bends forward (-Z)
+    hinge = axis - np.sum(axis * direction, 1, keepdims=True) * direction
+    np.testing.assert_allclose(frame[:, :, 0], hinge / np.linalg.norm(hinge, axis=1, keepdims=True), atol=1e-12)
+    assert np.all((knee >= 0) & (knee <= 180))
+    _, straight = leg_ik(np.zeros((1, 3)), [[0.0, -2.0, 0.0]], [[1.0, 0.0, 0.0]], lengths)
+    assert straight[0] == pytest.approx(0.0, abs=1e-3)
+
+
+def test_toe_rocker_lifts_the_heel_about_the_ball_just_enough():
+    lengths = (0.4, 0.4)
+    hip = np.array([[0.0, 0.85, 0.0], [0.0, 0.85, 0.0]])
+    ball = np.array([[0.0, 0.02, -0.3], [0.0, 0.02, 0.12]])
+    ankle = ball + [0.0, 0.05, -0.12]  # the foot points along +Z: the ankle is above and behind the ball
+    foot = np.broadcast_to(np.eye(3), (2, 3, 3)).copy()
+    new_ankle, new_foot = _toe_rocker(hip, ankle, ball, foot, lengths, slack=1e-3)
+    # far case: now exactly at reach, same distance from the ball, turned heel-up about +X through the ball
+    assert np.linalg.norm(new_ankle[0] - hip[0]) == pytest.approx(0.8 * (1 - 1e-3))
+    assert np.linalg.norm(new_ankle[0] - ball[0]) == pytest.approx(np.linalg.norm(ankle[0] - ball[0]))
+    turn = new_foot[0]
+    angle = np.arctan2(turn[2, 1], turn[1, 1])
+    assert angle > 0  # Rx(+) turns the toes down, i.e. lifts the heel
+    np.testing.assert_allclose(turn, axis_angle_to_matrix(np.array([1.0, 0, 0]), angle), atol=1e-12)
+    np.testing.assert_allclose(new_ankle[0], ball[0] + turn @ (ankle[0] - ball[0]), atol=1e-12)
+    # reachable case untouched
+    np.testing.assert_array_equal(new_ankle[1], ankle[1])
+    np.testing.assert_array_equal(new_foot[1], foot[1])
+
+
+def test_mid_heading_is_the_heading_at_the_middle_frame():
+    for kind in ("walk", "jump", "spiral"):
+        for target in (-150.0, 40.0):
+            fk = forward_kinematics(generate_motion(kind, seed=2, n_frames=120, mid_heading=target))
+            forward = fk[1][60, 0, :, 2]  # the root's forward axis at the middle frame
+            got = np.degrees(np.arctan2(forward[0], forward[2]))
+            assert abs((got - target + 180) % 360 - 180) < 12.0  # pelvic yaw swings a few degrees about it
+
+
+def test_default_training_sequences_cover_every_heading(tmp_path):
+    """Sequences 0 and 1 of walk, drunk, jog and jump (the default Table 1 training set) leave no 10-degree
+    heading bin empty, for several master seeds (Section 4: world-aligned descriptors)."""
+    from voxpose.motion.generate import default_motion
+
+    for seed in (0, 1, 2):
+        headings = []
+        for kind in ("walk", "drunk", "jog", "jump"):
+            for index in (0, 1):
+                path = tmp_path / f"{kind}_gen_{index:02d}.bvh"
+                write_bvh(default_motion(kind, index, n_frames=175, seed=seed), path)
+                headings.append(load_motion(path).angles[:, 0])
+        counts = np.histogram(np.mod(np.concatenate(headings), 360), bins=36, range=(0, 360))[0]
+        assert counts.min() > 0, (seed, counts)

@@ -1,0 +1,25 @@
+"""The descriptor file of one motion: its 3D shape contexts per frame and their basis voxels (Section 4)."""
+
+import numpy as np
+
+from voxpose.io.atomic import atomic_path
+from voxpose.io.hdf5 import check_layout, new_file, open_layout, read_meta, read_ragged, write_meta, write_ragged
+
+# --- descriptors/{rig}/{desc}/{motion}.h5: 3D shape contexts per frame (Section 4) -----------------------
+
+
+def write_descriptors(path, descriptors: list, basis_ijk: list, meta: dict) -> None:
+    """Per frame: (B_f, bins) descriptors at its basis voxels (B_f, 3); stored as float32 (values are weighted
+    vote counts, float32 keeps 7 significant digits) and computed in float64."""
+    with atomic_path(path) as tmp, new_file(tmp, "descriptors") as f:
+        write_ragged(f, "descriptors", descriptors, np.float32)
+        write_ragged(f, "basis_ijk", basis_ijk, np.int32)
+        write_meta(f, meta)
+
+
+def read_descriptors(path):
+    """-> (list of (B_f, bins) float64 arrays, list of (B_f, 3) int arrays, meta)."""
+    with open_layout(path, "descriptors") as f:
+        check_layout(f, path, "descriptors")
+        desc = [d.astype(np.float64) for d in read_ragged(f, "descriptors")]
+        return desc, read_ragged(f, "basis_ijk"), read_meta(f)

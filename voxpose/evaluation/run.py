@@ -1,0 +1,222 @@
+"""One experiment's regression (Sections 2, 3, 6): pose PCA, kernel width, MVRVM, baselines, predictions, errors.
+
+Training rows are the frames of the training motions that have a feature vector (frames with an empty hull
+are gaps and are skipped); test frames with a gap get no prediction (NaN) and are left out of the errors,
+which are reported with the number of frames they cover. The MVRVM regresses the M-dimensional PCA pose
+coordinates (Eq. 1) of the encoded pose (``voxpose.regression.pose_encoding``: the body heading as a point on a circle
+by default) and predictions are mapped back to the 42 angles, where Eq. 6 is evaluated. The kernel
+width is chosen on held-out training motions (whole motions held out), never on test motions.
+
+Reference baselines in the same evaluation show what the sparse Bayesian regressor buys: the mean training
+pose, the nearest training frame in feature space, and kernel ridge regression with the MVRVM's kernel.
+"""
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+
+from voxpose.errors import VoxposeError
+from voxpose.evaluation import metrics
+from voxpose.motion import canon
+from voxpose.regression import pose_encoding
+from voxpose.regression.baselines import KernelRidge, MeanPose, NearestNeighbour
+from voxpose.regression.mvrvm import MVRVM, select_kernel_width
+from voxpose.regression.pose_space import PosePCA
+
+log = logging.getLogger(__name__)
+
+METHODS = ("mvrvm", "mean_pose", "nearest_neighbour", "kernel_ridge")
+
+
+@dataclass
+class RunResult:
+    pca: PosePCA
+    mvrvm: MVRVM
+    predictions: dict  # motion -> {"true", "valid", "offsets", "root_positions", "pred_<method>", ...}
+    summary: dict
+
+
+def thin_frames(valid: list, max_frames: int | None) -> list:
+    """Keep every s-th valid frame of each motion, with the smallest stride s that leaves at most
+    ``max_frames`` in all (None or enough room: all of them). Even strides in time keep every motion and
+    its headings represented; the MVRVM's cost grows with the square of the training rows, and the paper
+    trains on 1744 frames (Table 2), where a real motion library has several thousand."""
+    total = int(sum(int(v.sum()) for v in valid))
+    if max_frames is None or total <= max_frames:
+        return valid
+    if max_frames < sum(bool(v.any()) for v in valid):
+        raise VoxposeError(f"config key regression.max_train_frames: {max_frames} is fewer than the training motions")
+    stride = 1
+    while sum(int(np.ceil(v.sum() / stride)) for v in valid) > max_frames:
+        stride += 1
+    out = []
+    for v in valid:
+        keep = np.zeros_like(v)
+        keep[np.flatnonzero(v)[::stride]] = True
+        out.append(keep)
+    return out
+
+
+def _rows(features: dict, motions: dict, names, max_frames: int | None = None):
+    xs, ys, groups = [], [], []
+    for name in names:
+        if name not in features:
+            raise VoxposeError(f"no features for motion {name!r}")
+    masks = thin_frames([features[name]["counts"] > 0 for name in names], max_frames)
+    for g, (name, valid) in enumerate(zip(names, masks, strict=True)):
+        xs.append(features[name]["features"][valid])
+        ys.append(motions[name].angles[valid])
+        groups.append(np.full(int(valid.sum()), g))
+    return np.concatenate(xs), np.concatenate(ys), np.concatenate(groups)
+
+
+def _errors(true, pred, offsets_per_frame, kinds) -> dict:
+    """Table columns, per joint, per angle and per motion type for one method over valid test frames."""
+    out = metrics.table_errors(true, pred)
+    out["left_shoulder"], out["right_hip"] = out.pop("lshoulder"), out.pop("rhip")
+    out["left_shoulder_mean"], out["right_hip_mean"] = out.pop("lshoulder_mean"), out.pop("rhip_mean")
+    position = np.concatenate([metrics.position_errors_mm(true[idx], pred[idx], off) for off, idx in offsets_per_frame])
+    out["position_mm"] = float(position.mean())
+    out["per_joint"] = dict(zip(canon.JOINTS, metrics.per_joint_error(true, pred).tolist(), strict=True))
+    out["per_angle"] = dict(zip(canon.ANGLE_NAMES, metrics.per_angle_error(true, pred).tolist(), strict=True))
+    out["per_kind"] = {
+        kind: {
+            "full_body": metrics.full_body_error(true[kinds == kind], pred[kinds == kind]),
+            "frames": int((kinds == kind).sum()),
+        }  # fmt: skip
+        for kind in sorted(set(kinds))
+    }
+    return out
+
+
+def evaluate(predict: dict, features: dict, motions: dict, test: list):
+    """Predictions and errors of each method on the ``test`` motions' frames that have features.
+
+    ``predict``: method -> function from features (n, K) to the 42 angles (n, 42). Returns
+    (predictions: motion -> {"true", "valid", "offsets", "root_positions", "pred_<method>",
+    "frame_error_<method>"}, {"test_frames", "test_gaps", "methods": method -> errors}).
+    """
+    predictions, true_all, pred_all, kinds, spans = {}, [], {m: [] for m in predict}, [], []
+    start = 0
+    for name in test:
+        if name not in features:
+            raise VoxposeError(f"no features for motion {name!r}")
+        motion = motions[name]
+        valid = features[name]["counts"] > 0
+        x = features[name]["features"][valid]
+        entry = {"true": motion.angles, "valid": valid, "offsets": motion.offsets,
+                 "root_positions": motion.positions[:, 0]}  # fmt: skip
+        for method, fn in predict.items():
+            pred = fn(x)
+            full = np.full_like(motion.angles, np.nan)
+            full[valid] = pred
+            entry[f"pred_{method}"] = full
+            err = np.full(motion.n_frames, np.nan)
+            err[valid] = metrics.frame_errors(motion.angles[valid], pred)
+            entry[f"frame_error_{method}"] = err
+            pred_all[method].append(pred)
+        predictions[name] = entry
+        true_all.append(motion.angles[valid])
+        kinds += [motion.kind] * int(valid.sum())
+        spans.append((motion.offsets, np.arange(start, start + int(valid.sum()))))
+        start += int(valid.sum())
+    true = np.concatenate(true_all)
+    kinds = np.array(kinds)
+    return predictions, {
+        "test_frames": len(true),
+        "test_gaps": int(sum((~p["valid"]).sum() for p in predictions.values())),
+        "methods": {m: _errors(true, np.concatenate(pred_all[m]), spans, kinds) for m in predict},
+    }
+
+
+def run(features: dict, motions: dict, train: list, test: list, cfg: dict, seed: int) -> RunResult:
+    """Fit on ``train`` motions and evaluate on ``test`` motions.
+
+    ``features``: motion -> {"features": (F, K), "counts": (F,)}; ``motions``: motion -> MotionData;
+    ``cfg``: the config's ``regression`` section.
+    """
+    x_train, angles_train, groups = _rows(features, motions, train, cfg.get("max_train_frames"))
+    heading = cfg.get("heading", "vector")
+    y_train = pose_encoding.encode(angles_train, heading)
+    log.info(
+        "regression: %d training frames from %d motions, %d features",
+        len(x_train),
+        len(train),
+        x_train.shape[1],
+    )
+    pca = PosePCA(variance=cfg["pca_variance"]).fit(y_train)
+    z_train = pca.transform(y_train)
+    log.info("pose PCA: M = %d components keep %.1f %% of the variance (Eq. 1)", pca.n_components_,
+             100 * pca.explained_variance_ratio_.sum())  # fmt: skip
+    mvrvm_params = {"max_iter": cfg["max_iter"], "tol": cfg["tol"]}
+    width_table = start = None
+    width = cfg["kernel_width"]
+    if width == "auto":
+        # the candidate widths are only ranked, so their fits get a smaller budget than the final fit, which
+        # starts from the chosen candidate (MVRVM._warm_start)
+        budget = min(cfg["max_iter"], cfg.get("selection_max_iter") or cfg["max_iter"])
+        width, width_table, start = select_kernel_width(x_train, z_train, scales=cfg["width_scales"],
+                                                        groups=groups, random_state=seed, max_iter=budget,
+                                                        tol=cfg["tol"])  # fmt: skip
+    model = MVRVM(kernel_width=width, random_state=seed, **mvrvm_params).fit(x_train, z_train, start=start)
+    log.info("MVRVM: kernel width %.4g, %d of %d relevance vectors, converged %s after %d iterations",
+             model.kernel_width_, len(model.relevance_), len(x_train), model.converged_, model.n_iter_)  # fmt: skip
+    baselines = {
+        "mean_pose": MeanPose().fit(x_train, y_train),
+        "nearest_neighbour": NearestNeighbour().fit(x_train, y_train),
+        "kernel_ridge": KernelRidge(kernel_width=model.kernel_width_, random_state=seed).fit(x_train, z_train),
+    }
+
+    predict = {
+        "mvrvm": _in_pose_space(pca, model, heading),
+        "mean_pose": lambda x: pose_encoding.decode(baselines["mean_pose"].predict(x), heading),
+        "nearest_neighbour": lambda x: pose_encoding.decode(baselines["nearest_neighbour"].predict(x), heading),
+        "kernel_ridge": _in_pose_space(pca, baselines["kernel_ridge"], heading),
+    }
+    predictions, test_summary = evaluate(predict, features, motions, test)
+    summary = {
+        "train": train,
+        "test": test,
+        "train_frames": len(x_train),
+        "test_frames": test_summary["test_frames"],
+        "test_gaps": test_summary["test_gaps"],
+        "pose_dims": int(pca.n_components_),
+        "pose_variance": float(pca.explained_variance_ratio_.sum()),
+        "n_relevance": len(model.relevance_),
+        "kernel_width": float(model.kernel_width_),
+        "width_selection": None if width_table is None else width_table.to_dict(orient="records"),
+        "mvrvm": {
+            "n_iter": int(model.n_iter_),
+            "converged": bool(model.converged_),
+            "noise_std": (1 / np.sqrt(model.beta_)).tolist(),
+        },  # fmt: skip
+        "methods": test_summary["methods"],
+    }
+    for m in METHODS:
+        log.info("%s: full body %.2f deg, heading %.2f, left shoulder %.2f, right hip %.2f, %.0f mm", m,
+                 *(summary["methods"][m][k] for k in ("full_body", "heading", "left_shoulder", "right_hip",
+                                                      "position_mm")))  # fmt: skip
+    return RunResult(pca, model, predictions, summary)
+
+
+def stored_predictors(arrays: dict, meta: dict, heading: str) -> dict:
+    """MVRVM and mean-pose predictors (as in ``evaluate``) of a regressor file written by ``voxpose regress``.
+
+    The pose PCA and MVRVM are rebuilt by ``regression.stored.regressor_from_arrays``; the mean pose is the PCA
+    mean. Lets one trained regressor be tested on features from other camera rigs or degraded silhouettes
+    without retraining.
+    """
+    from voxpose.regression.stored import regressor_from_arrays
+
+    pca, model = regressor_from_arrays(arrays, meta)
+
+    def mean_pose(x):
+        return pose_encoding.decode(np.broadcast_to(pca.mean_, (len(x), pca.mean_.size)), heading)
+
+    return {"mvrvm": _in_pose_space(pca, model, heading), "mean_pose": mean_pose}
+
+
+def _in_pose_space(pca: PosePCA, regressor, heading: str):
+    """Features -> the 42 angles through a regressor of pose-PCA coordinates (Eq. 1) and the heading code."""
+    return lambda x: pose_encoding.decode(pca.inverse_transform(regressor.predict(x)), heading)

@@ -1,0 +1,187 @@
+"""One feature vector per frame from that frame's varying number of descriptors (Sun et al. 2006, Sec. 5).
+
+Two transformations share one layout: descriptors (N, d) of many frames at once, ``frame_index`` (N,)
+naming the frame of each row, and the result (n_frames, K) whose row f averages the soft votes of frame f's
+descriptors, so every row of a frame with descriptors sums to one.
+
+- :func:`mppca_features` is Eq. 5: ``x_i = (1 / N_sc) sum_n p(i | t_n)``, the mean MPPCA posterior.
+- :func:`kmeans_features` is the K-means baseline of Table 1 (third row), after Agarwal & Triggs (2004), who
+  vote each shape context softly, with Gaussian weights, into the few k-means centres nearest to it. Neither
+  paper gives the number of centres voted for or the width, so both are explicit in :class:`SoftVoteRule`.
+
+A frame with no descriptors (an empty visual hull) gets a row of NaN and a count of 0; the workflow carries
+such frames as gaps, so this is reported by the returned counts and a warning, not an error.
+"""
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+
+from voxpose.errors import VoxposeError
+from voxpose.features.kmeans import (
+    DEFAULT_CHUNK_SIZE,
+    check_chunk_size,
+    check_rows,
+    group_sums,
+    nearest_centres,
+    squared_distances,
+)
+
+log = logging.getLogger(__name__)
+
+
+def _check_frames(frame_index, n_rows, n_frames):
+    """Validate ``frame_index`` (n_rows,) against ``n_frames``; return it as an intp array."""
+    if isinstance(n_frames, bool) or not isinstance(n_frames, int | np.integer) or n_frames < 1:
+        raise VoxposeError(f"n_frames must be a positive integer, got {n_frames!r}")
+    frame_index = np.asarray(frame_index)
+    if frame_index.ndim != 1 or frame_index.shape[0] != n_rows:
+        raise VoxposeError(
+            f"frame_index must be 1-D with one entry per descriptor ({n_rows}), got shape {frame_index.shape}"
+        )
+    if not np.issubdtype(frame_index.dtype, np.integer):
+        raise VoxposeError(f"frame_index must hold integers, got dtype {frame_index.dtype}")
+    bad = (frame_index < 0) | (frame_index >= n_frames)
+    if bad.any():
+        row = int(np.argmax(bad))
+        raise VoxposeError(
+            f"frame_index[{row}] = {frame_index[row]} is outside the {n_frames} frames (0 .. {n_frames - 1})"
+        )
+    return frame_index.astype(np.intp, copy=False)
+
+
+def _frame_average(votes, descriptors, frame_index, n_frames, n_bins, chunk_size):
+    """Average ``votes(chunk) -> (c, n_bins)`` over each frame's rows; returns (features, counts)."""
+    totals = np.zeros((n_frames, n_bins))
+    for start in range(0, descriptors.shape[0], chunk_size):
+        stop = start + chunk_size
+        totals += group_sums(frame_index[start:stop], votes(descriptors[start:stop]), n_frames)
+    counts = np.bincount(frame_index, minlength=n_frames)
+    features = np.full((n_frames, n_bins), np.nan)
+    present = counts > 0
+    features[present] = totals[present] / counts[present, None]
+    if not present.all():
+        log.warning(
+            "%d of %d frames have no descriptors (first: frame %d); their feature rows are NaN",
+            n_frames - int(present.sum()),
+            n_frames,
+            int(np.argmin(present)),
+        )
+    return features, counts
+
+
+def mppca_features(model, descriptors, frame_index, n_frames, *, chunk_size=DEFAULT_CHUNK_SIZE):
+    """Eq. 5 of Sun et al. (2006): each frame's mean posterior ``p(i | t_n)`` under a fitted MPPCA.
+
+    Parameters
+    ----------
+    model : voxpose.features.mppca.MPPCA
+        Fitted on the training descriptors.
+    descriptors : array_like, shape (N, d)
+        The descriptors of all frames.
+    frame_index : array_like of int, shape (N,)
+        Frame of each descriptor, in ``0 .. n_frames - 1`` (any order).
+    n_frames : int
+    chunk_size : int
+        Descriptors passed to ``model.predict_proba`` at once.
+
+    Returns
+    -------
+    features : ndarray, shape (n_frames, K)
+        ``x_i = (1 / N_sc) sum_n p(i | t_n)``; rows sum to one; NaN rows for frames without descriptors.
+    counts : ndarray of int, shape (n_frames,)
+        ``N_sc``, the number of descriptors of each frame (0 marks a gap).
+    """
+    if not hasattr(model, "components_"):
+        raise VoxposeError("the MPPCA model is not fitted: call fit() first")
+    descriptors = check_rows(descriptors, "descriptors", model.n_features_in_)
+    frame_index = _check_frames(frame_index, descriptors.shape[0], n_frames)
+    chunk = check_chunk_size(chunk_size)
+    return _frame_average(model.predict_proba, descriptors, frame_index, n_frames, model.weights_.shape[0], chunk)
+
+
+@dataclass(frozen=True)
+class SoftVoteRule:
+    """Soft vote of one descriptor t into k-means centres c_j (Agarwal & Triggs 2004; Table 1 baseline).
+
+    The vote goes to the ``n_nearest`` centres nearest to t, with weights
+    ``w_j = exp(-|t - c_j|^2 / (2 s^2)) / sum_l exp(-|t - c_l|^2 / (2 s^2))`` over those centres (so one
+    descriptor's votes sum to one) and width ``s = bandwidth``. ``n_nearest = 1`` is hard vector quantisation.
+
+    Parameters
+    ----------
+    n_nearest : int
+        Number of centres each descriptor votes for, 1 <= n_nearest.
+    bandwidth : float
+        Gaussian width s, in the descriptors' units; see :meth:`from_training`.
+    """
+
+    n_nearest: int
+    bandwidth: float
+
+    def __post_init__(self):
+        if isinstance(self.n_nearest, bool) or not isinstance(self.n_nearest, int | np.integer):
+            raise VoxposeError(f"n_nearest must be an integer, got {self.n_nearest!r}")
+        if self.n_nearest < 1:
+            raise VoxposeError(f"n_nearest must be at least 1, got {self.n_nearest}")
+        if not np.isfinite(self.bandwidth) or self.bandwidth <= 0:
+            raise VoxposeError(f"bandwidth must be a positive number, got {self.bandwidth!r}")
+
+    @classmethod
+    def from_training(cls, centres, descriptors, *, n_nearest=3, bandwidth_scale=1.0, chunk_size=DEFAULT_CHUNK_SIZE):
+        """The rule whose width is ``bandwidth_scale`` times the mean distance from a training descriptor to
+        its nearest centre (our choice of scale, recorded in the returned rule).
+
+        ``centres`` (K, d), ``descriptors`` (N, d): the training descriptors the centres were fitted on.
+        """
+        centres = check_rows(centres, "k-means centres")
+        descriptors = check_rows(descriptors, "training descriptors", centres.shape[1])
+        sqdist = nearest_centres(descriptors, centres.astype(np.float64), check_chunk_size(chunk_size))[1]
+        mean_distance = float(np.sqrt(sqdist).mean())
+        if mean_distance <= 0.0:
+            raise VoxposeError("every training descriptor coincides with a centre: no soft-vote width can be set")
+        return cls(n_nearest=n_nearest, bandwidth=bandwidth_scale * mean_distance)
+
+    def votes(self, descriptors, centres):
+        """Soft votes of the rows of ``descriptors`` (n, d) into ``centres`` (K, d): (n, K), rows sum to 1."""
+        if self.n_nearest > centres.shape[0]:
+            raise VoxposeError(f"the rule votes for {self.n_nearest} centres but there are only {centres.shape[0]}")
+        sqdist = squared_distances(descriptors, centres)
+        nearest = np.argpartition(sqdist, self.n_nearest - 1, axis=1)[:, : self.n_nearest]
+        near = np.take_along_axis(sqdist, nearest, axis=1)
+        weights = np.exp(-(near - near.min(axis=1, keepdims=True)) / (2.0 * self.bandwidth**2))
+        votes = np.zeros_like(sqdist)
+        np.put_along_axis(votes, nearest, weights / weights.sum(axis=1, keepdims=True), axis=1)
+        return votes
+
+
+def kmeans_features(centres, descriptors, frame_index, n_frames, *, rule, chunk_size=DEFAULT_CHUNK_SIZE):
+    """K-means baseline of Sun et al. (2006), Table 1 third row: each frame's mean soft-vote histogram.
+
+    Parameters
+    ----------
+    centres : array_like, shape (K, d)
+        k-means centres of the training descriptors (:class:`voxpose.features.kmeans.KMeans`).
+    descriptors : array_like, shape (N, d)
+    frame_index : array_like of int, shape (N,)
+        Frame of each descriptor, in ``0 .. n_frames - 1`` (any order).
+    n_frames : int
+    rule : SoftVoteRule
+        How one descriptor spreads its vote.
+    chunk_size : int
+
+    Returns
+    -------
+    features : ndarray, shape (n_frames, K)
+        Rows sum to one; NaN rows for frames without descriptors.
+    counts : ndarray of int, shape (n_frames,)
+        Number of descriptors of each frame (0 marks a gap).
+    """
+    centres = np.asarray(check_rows(centres, "k-means centres"), dtype=np.float64)
+    descriptors = check_rows(descriptors, "descriptors", centres.shape[1])
+    frame_index = _check_frames(frame_index, descriptors.shape[0], n_frames)
+    chunk = check_chunk_size(chunk_size)
+    return _frame_average(
+        lambda rows: rule.votes(rows, centres), descriptors, frame_index, n_frames, centres.shape[0], chunk
+    )

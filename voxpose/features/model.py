@@ -1,0 +1,106 @@
+"""The feature transformation of Section 5 as a stored model: fit on training descriptors, save, load, apply.
+
+Two methods share the interface: ``mppca`` (Mixture of PPCA, Eq. 5 features) and ``kmeans`` (the K-means
+soft-vote histogram of Table 1's third row). Both are fitted on a seeded subsample of the experiment's
+training descriptors (``fit_subsample`` rows; all rows when it is null or larger than the set); the sizes
+used are recorded in the model file.
+"""
+
+import logging
+
+import numpy as np
+
+from voxpose.errors import VoxposeError
+from voxpose.features.frame import SoftVoteRule, kmeans_features, mppca_features
+from voxpose.features.kmeans import KMeans
+from voxpose.features.mppca import MPPCA
+from voxpose.io.hdf5 import read_arrays, write_arrays
+
+log = logging.getLogger(__name__)
+
+METHODS = ("mppca", "kmeans")
+
+
+def subsample(descriptors: np.ndarray, n: int | None, seed: int) -> np.ndarray:
+    """``n`` rows drawn without replacement (seeded), in their original order; all rows if ``n`` is None."""
+    if n is None or n >= len(descriptors):
+        return descriptors
+    rng = np.random.default_rng([seed, 5])
+    return descriptors[np.sort(rng.choice(len(descriptors), size=n, replace=False))]
+
+
+class FeatureModel:
+    """A fitted MPPCA or K-means transformation; ``transform`` gives one feature vector per frame."""
+
+    def __init__(self, method: str, estimator, rule: SoftVoteRule | None, meta: dict):
+        self.method, self.estimator, self.rule, self.meta = method, estimator, rule, meta
+
+    @classmethod
+    def fit(cls, method: str, descriptors: np.ndarray, cfg: dict, seed: int) -> "FeatureModel":
+        """Fit on the rows of ``descriptors`` (N, d) with the config's ``features`` section ``cfg``."""
+        if method not in METHODS:
+            raise VoxposeError(f"unknown feature method {method!r}: expected one of {', '.join(METHODS)}")
+        rows = subsample(descriptors, cfg.get("fit_subsample"), seed)
+        log.info(
+            "%s: fitting K=%d on %d of %d descriptors",
+            method,
+            cfg["n_components"],
+            len(rows),
+            len(descriptors),
+        )
+        meta = {
+            "method": method,
+            "params": cfg,
+            "seed": seed,
+            "n_fit": len(rows),
+            "n_train": len(descriptors),
+        }
+        if method == "mppca":
+            model = MPPCA(
+                cfg["n_components"], n_latent=cfg["n_latent"], max_iter=cfg["max_iter"], tol=cfg["tol"],
+                random_state=seed,
+            ).fit(rows)  # fmt: skip
+            meta |= {"log_likelihood": model.log_likelihood_, "n_iter": model.n_iter_,
+                     "converged": model.converged_, "n_reseeded": model.n_reseeded_}  # fmt: skip
+            return cls(method, model, None, meta)
+        model = KMeans(cfg["n_components"], max_iter=cfg["max_iter"], random_state=seed).fit(rows)
+        rule = SoftVoteRule.from_training(model.cluster_centers_, rows, n_nearest=cfg["kmeans_neighbours"])
+        meta |= {"inertia": model.inertia_, "n_iter": model.n_iter_, "converged": model.converged_}
+        return cls(method, model, rule, meta)
+
+    def transform(self, descriptors: np.ndarray, frame_index: np.ndarray, n_frames: int):
+        """-> (features (n_frames, K), counts (n_frames,)); frames without descriptors get NaN rows."""
+        if self.method == "mppca":
+            return mppca_features(self.estimator, descriptors, frame_index, n_frames)
+        return kmeans_features(self.estimator.cluster_centers_, descriptors, frame_index, n_frames, rule=self.rule)
+
+    def to_arrays(self) -> tuple[dict, dict]:
+        """(arrays, meta) that ``from_arrays`` turns back into this model (the model file's contents)."""
+        if self.method == "mppca":
+            m = self.estimator
+            arrays = {"weights": m.weights_, "means": m.means_, "components": m.components_,
+                      "noise_variance": m.noise_variance_}  # fmt: skip
+            return arrays, self.meta | {"noise_variance_floor": m.noise_variance_floor_}
+        arrays = {"centres": self.estimator.cluster_centers_}
+        return arrays, self.meta | {"n_nearest": self.rule.n_nearest, "bandwidth": self.rule.bandwidth}
+
+    @classmethod
+    def from_arrays(cls, arrays: dict, meta: dict) -> "FeatureModel":
+        method, cfg = meta["method"], meta["params"]
+        if method == "mppca":
+            model = MPPCA(cfg["n_components"], n_latent=cfg["n_latent"])
+            model.weights_, model.means_ = arrays["weights"], arrays["means"]
+            model.components_, model.noise_variance_ = arrays["components"], arrays["noise_variance"]
+            model.noise_variance_floor_ = meta["noise_variance_floor"]
+            model.n_features_in_ = model.means_.shape[1]
+            return cls(method, model, None, meta)
+        model = KMeans(cfg["n_components"])
+        model.cluster_centers_ = arrays["centres"]
+        return cls(method, model, SoftVoteRule(meta["n_nearest"], meta["bandwidth"]), meta)
+
+    def save(self, path) -> None:
+        write_arrays(path, "feature-model", *self.to_arrays())
+
+    @classmethod
+    def load(cls, path) -> "FeatureModel":
+        return cls.from_arrays(*read_arrays(path, "feature-model"))

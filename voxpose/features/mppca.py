@@ -1,0 +1,505 @@
+"""Mixture of probabilistic principal component analysers (MPPCA), fitted by EM and streamed over row chunks.
+
+Sun et al. (2006), Sec. 5, model the density of the 3D shape context descriptors with the MPPCA of Tipping &
+Bishop (1999), ``p(t) = sum_i pi_i p(t | i)``, where each ``p(t | i) = N(t; mu_i, C_i)`` with
+``C_i = sigma_i^2 I + W_i W_i^T`` is a probabilistic PCA model, and describe a frame by the average posterior
+``p(i | t_n)`` of its descriptors (Eq. 5, :mod:`voxpose.features.frame`).
+
+Numerics. Densities stay in log space: ``log|C_i| = (d - q) log sigma_i^2 + log|M_i|`` (matrix determinant
+lemma) and ``C_i^-1 = (I - W_i M_i^-1 W_i^T) / sigma_i^2`` (Woodbury), with ``M_i = sigma_i^2 I + W_i^T W_i``
+(q x q) factored by Cholesky, ``M_i = L_i L_i^T``. With ``V_i = W_i L_i^-T`` the Mahalanobis term is
+``(|t - mu_i|^2 - |V_i^T (t - mu_i)|^2) / sigma_i^2``, so one product of a row chunk with the stacked
+``[mu_1 .. mu_K | V_1 .. V_K]`` (d x K(q + 1)) serves every component, and the mixture is combined by
+log-sum-exp. Rows are shifted by the mixture mean ``sum_i pi_i mu_i`` before the products to limit
+cancellation in ``|t|^2 - 2 t.mu + |mu|^2``.
+"""
+
+import logging
+from typing import NamedTuple
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse
+
+from voxpose.errors import VoxposeError
+from voxpose.features.kmeans import DEFAULT_CHUNK_SIZE, KMeans, check_chunk_size, check_rows, mean_feature_variance
+
+log = logging.getLogger(__name__)
+
+_LOG_2PI = float(np.log(2.0 * np.pi))
+_NEGLIGIBLE = 1e-30
+_SPARSE_FRACTION = 0.05
+
+
+class _Params(NamedTuple):
+    """MPPCA parameters: weights (K,), means (K, d), components W (K, d, q), noise variances sigma^2 (K,)."""
+
+    weights: np.ndarray
+    means: np.ndarray
+    components: np.ndarray
+    noise_variance: np.ndarray
+
+
+class _Projection(NamedTuple):
+    """E-step constants of one parameter set (see the module docstring for V_i and L_i).
+
+    offset (d,) the mixture mean subtracted from every row; means (K, d) shifted by it; chol (K, q, q)
+    ``L_i``; stack (d + 1, K + K q) in the working dtype,
+    ``[[mu_1 .. mu_K, V_1 .. V_K], [-|mu_1|^2 / 2 .. -|mu_K|^2 / 2, -V_1^T mu_1 .. -V_K^T mu_K]]``, so
+    that ``[x, 1] @ stack`` gives ``x.mu_i - |mu_i|^2 / 2`` and ``V_i^T (x - mu_i)`` in one product;
+    log_norm (K,) ``log pi_i - (d log 2 pi + log|C_i|) / 2``; noise_variance (K,).
+    """
+
+    offset: np.ndarray
+    means: np.ndarray
+    chol: np.ndarray
+    stack: np.ndarray
+    log_norm: np.ndarray
+    noise_variance: np.ndarray
+
+
+class _Statistics(NamedTuple):
+    """Responsibility-weighted sums over all rows, in shifted coordinates ``x = t - offset``.
+
+    counts (K,) ``N_i = sum_n R_ni``; sums (K, d) ``sum_n R_ni x_n``;
+    sqdist (K,) ``sum_n R_ni |x_n - mu_i|^2``; cross (K, d, q) ``sum_n R_ni x_n v_ni^T`` and latent (K, q)
+    ``sum_n R_ni v_ni`` with ``v_ni = V_i^T (x_n - mu_i)``; log_likelihood the total ``sum_n log p(t_n)``.
+    """
+
+    counts: np.ndarray
+    sums: np.ndarray
+    sqdist: np.ndarray
+    cross: np.ndarray
+    latent: np.ndarray
+    log_likelihood: float
+
+
+def _project(params, dtype=np.float64):
+    """Precompute the E-step constants of ``params``.
+
+    ``dtype`` is the precision of the two large products of the E-step. The estimator always uses float64;
+    float32 exists for ``benchmarks/bench_mppca.py``, which measures why it is not offered: on paper-sized
+    data it is at most about 1.5x faster, but moves log densities by up to 0.08 and responsibilities by up to
+    7e-3 (the ``|x|^2 - 2 x.mu + |mu|^2`` cancellation, divided by sigma^2 ~ 1e-5).
+    """
+    n_components, n_features, n_latent = params.components.shape
+    offset = params.weights @ params.means
+    means = params.means - offset
+    Wt = np.swapaxes(params.components, 1, 2)
+    chol = np.linalg.cholesky(params.noise_variance[:, None, None] * np.eye(n_latent) + Wt @ params.components)
+    Vt = np.linalg.solve(chol, Wt)  # V_i^T = L_i^-1 W_i^T, shape (K, q, d)
+    log_det = (n_features - n_latent) * np.log(params.noise_variance) + 2.0 * np.log(
+        np.diagonal(chol, axis1=1, axis2=2)
+    ).sum(axis=1)
+    stack = np.empty((n_features + 1, n_components * (n_latent + 1)))
+    stack[:-1, :n_components] = means.T
+    stack[-1, :n_components] = -0.5 * np.einsum("kd,kd->k", means, means)
+    stack[:-1, n_components:] = Vt.transpose(2, 0, 1).reshape(n_features, n_components * n_latent)
+    stack[-1, n_components:] = -np.einsum("kqd,kd->kq", Vt, means).ravel()
+    return _Projection(
+        offset=offset,
+        means=means,
+        chol=chol,
+        stack=stack.astype(dtype, copy=False),
+        log_norm=np.log(params.weights) - 0.5 * (n_features * _LOG_2PI + log_det),
+        noise_variance=params.noise_variance,
+    )
+
+
+def _log_joint_chunks(X, proj, chunk_size):
+    """Yield ``(x1, log_joint, latent, sqdist)`` per chunk of rows of ``X``.
+
+    x1 (c, d + 1) float64 shifted rows with a column of ones appended; log_joint (c, K)
+    ``log pi_i + log p(t | i)``; latent (c, K, q) ``V_i^T (x - mu_i)`` in the working dtype; sqdist (c, K)
+    float64 ``|x - mu_i|^2``.
+    """
+    n_components = proj.means.shape[0]
+    n_latent = proj.chol.shape[1]
+    for start in range(0, X.shape[0], chunk_size):
+        rows = X[start : start + chunk_size]
+        x1 = np.ones((rows.shape[0], rows.shape[1] + 1))
+        np.subtract(rows, proj.offset, out=x1[:, :-1])
+        prod = x1.astype(proj.stack.dtype, copy=False) @ proj.stack
+        sqdist = np.einsum("nd,nd->n", x1[:, :-1], x1[:, :-1])[:, None] - 2.0 * prod[:, :n_components]
+        latent = prod[:, n_components:].reshape(len(x1), n_components, n_latent)
+        mahalanobis = (sqdist - np.einsum("nkq,nkq->nk", latent, latent)) / proj.noise_variance
+        yield x1, proj.log_norm - 0.5 * mahalanobis, latent, sqdist
+
+
+def _logsumexp_rows(a):
+    """``log(sum(exp(a), axis=1))`` without overflow, shape (n,)."""
+    peak = a.max(axis=1)
+    return peak + np.log(np.exp(a - peak[:, None]).sum(axis=1))
+
+
+def _chunk_moments(x1, resp, latent, sqdist):
+    """Sufficient statistics of one chunk: ``(G @ x1 (K (q + 1), d + 1), sum_n R_ni |x_n - mu_i|^2 (K,))``.
+
+    ``G[i (q + 1) + j, n] = R_ni [v_ni, 1]_j``, so ``G @ [x, 1]`` holds every weighted sum the M-step needs.
+    Responsibilities below ``_NEGLIGIBLE`` (1e-30) are dropped: they change no sum at float64 resolution.
+    In high dimension nearly every row then keeps one component (measured on the benchmark's histogram data,
+    d = K = 200: 1.02 per row), so when at most ``_SPARSE_FRACTION`` of the pairs are kept G is built sparse
+    from them (measured 14x faster at 0.5 % density); otherwise the dense product is faster.
+    """
+    n_rows, n_components, n_latent = latent.shape
+    kept = resp >= _NEGLIGIBLE
+    n_kept = int(np.count_nonzero(kept))
+    if n_kept > _SPARSE_FRACTION * resp.size:
+        resp = np.where(kept, resp, 0.0)
+        G = np.empty((n_rows, n_components, n_latent + 1))
+        np.multiply(latent, resp[:, :, None], out=G[:, :, :n_latent])
+        G[:, :, n_latent] = resp
+        return G.reshape(n_rows, -1).T @ x1, np.einsum("nk,nk->k", resp, sqdist)
+    rows, comps = np.nonzero(kept)  # row-major order: G^T is built directly in CSR form
+    weight = resp[rows, comps]
+    pairs = np.empty((n_kept, n_latent + 1))
+    pairs[:, :n_latent] = latent[rows, comps] * weight[:, None]
+    pairs[:, n_latent] = weight
+    slots = (comps * (n_latent + 1))[:, None] + np.arange(n_latent + 1)
+    indptr = np.concatenate([[0], np.cumsum(np.bincount(rows, minlength=n_rows) * (n_latent + 1))])
+    Gt = scipy.sparse.csr_matrix((pairs.ravel(), slots.ravel(), indptr), shape=(n_rows, n_components * (n_latent + 1)))
+    return Gt.T @ x1, np.bincount(comps, weights=weight * sqdist[rows, comps], minlength=n_components)
+
+
+def _accumulate(X, proj, chunk_size):
+    """E-step: responsibilities ``R_ni`` of every row and the sufficient statistics of the M-step, chunked."""
+    n_components = proj.means.shape[0]
+    n_latent = proj.chol.shape[1]
+    n_features = X.shape[1]
+    moments = np.zeros((n_components * (n_latent + 1), n_features + 1))
+    sqdist_sum = np.zeros(n_components)
+    total = 0.0
+    for x1, log_joint, latent, sqdist in _log_joint_chunks(X, proj, chunk_size):
+        log_p = _logsumexp_rows(log_joint)
+        chunk_moments, chunk_sqdist = _chunk_moments(x1, np.exp(log_joint - log_p[:, None]), latent, sqdist)
+        moments += chunk_moments
+        sqdist_sum += chunk_sqdist
+        total += float(log_p.sum())
+    moments = moments.reshape(n_components, n_latent + 1, n_features + 1)
+    return _Statistics(
+        counts=moments[:, n_latent, n_features],
+        sums=moments[:, n_latent, :n_features],
+        sqdist=sqdist_sum,
+        cross=moments[:, :n_latent, :n_features].transpose(0, 2, 1),
+        latent=moments[:, :n_latent, n_features],
+        log_likelihood=total,
+    )
+
+
+def _m_step(stats, proj, params, n_samples, floor):
+    """Tipping & Bishop (1999), Appendix C, for every component at once; returns the new params.
+
+    ``pi_i = N_i / N``, ``mu_i = sum_n R_ni t_n / N_i``, and from the responsibility-weighted covariance about
+    the new mean, ``S_i = sum_n R_ni (t_n - mu_i)(t_n - mu_i)^T / N_i``, the one-step updates
+    ``W~_i = S_i W_i (sigma_i^2 I + M_i^-1 W_i^T S_i W_i)^-1`` and
+    ``sigma~_i^2 = tr(S_i - S_i W_i M_i^-1 W~_i^T) / d``, floored at ``floor``. ``S_i`` is never formed: only
+    ``S_i W_i`` (d x q) and ``tr S_i`` are, from statistics taken about the old mean ``m``:
+    ``N_i S_i W_i = [sum_n R_ni (t_n - m) v_ni^T] L_i^T - N_i delta (delta^T W_i)`` with ``delta = mu_i - m``.
+    ``W~`` uses ``(sigma^2 I + M^-1 A)^-1 = (sigma^2 M + A)^-1 M`` so only symmetric positive definite systems
+    are solved. A component with ``N_i < 1`` (less than one row of evidence) keeps its old mean, W and
+    sigma^2; the caller re-seeds it.
+    """
+    n_latent = params.components.shape[2]
+    n_features = params.means.shape[1]
+    keep = stats.counts >= 1.0
+    counts = stats.counts[keep]
+    W = params.components[keep]
+    noise = params.noise_variance[keep]
+    means = stats.sums[keep] / counts[:, None]
+    delta = means - proj.means[keep]
+    scatter_v = stats.cross[keep] - proj.means[keep][:, :, None] * stats.latent[keep][:, None, :]
+    SW = (scatter_v @ np.swapaxes(proj.chol[keep], 1, 2)) / counts[:, None, None]
+    SW -= delta[:, :, None] * np.einsum("kd,kdq->kq", delta, W)[:, None, :]
+    trace_S = stats.sqdist[keep] / counts - np.einsum("kd,kd->k", delta, delta)
+    Wt = np.swapaxes(W, 1, 2)
+    M = noise[:, None, None] * np.eye(n_latent) + Wt @ W
+    WSW = Wt @ SW
+    B = noise[:, None, None] * M + 0.5 * (WSW + np.swapaxes(WSW, 1, 2))
+    SWt = np.swapaxes(SW, 1, 2)
+    W_new_t = M @ np.linalg.solve(B, SWt)
+    noise_new = (trace_S - np.einsum("kqd,kqd->k", np.linalg.solve(M, SWt), W_new_t)) / n_features
+
+    new_means = params.means.copy()
+    new_means[keep] = means + proj.offset
+    components = params.components.copy()
+    components[keep] = np.swapaxes(W_new_t, 1, 2)
+    noise_variance = params.noise_variance.copy()
+    noise_variance[keep] = np.maximum(noise_new, floor)
+    return _Params(stats.counts / n_samples, new_means, components, noise_variance)
+
+
+def _reseed(params, starved, rng):
+    """Re-seed each starved component by splitting the currently heaviest one; returns new params.
+
+    The heaviest component j is halved in weight and its mean moved by ``-/+ sqrt(2/pi) s u`` for itself and
+    the re-seeded slot, where u is the leading principal direction of ``C_j`` and ``s^2`` its variance (the
+    means of the two halves of a Gaussian cut through its centre); W and sigma^2 are copied. With q = 0 the
+    direction is drawn at random from ``rng``. Weights are renormalised to sum to one.
+    """
+    weights, means = params.weights.copy(), params.means.copy()
+    components, noise = params.components.copy(), params.noise_variance.copy()
+    for i in np.flatnonzero(starved):
+        weights[i] = 0.0
+        j = int(np.argmax(weights))
+        if components.shape[2]:
+            u, s, _ = np.linalg.svd(components[j], full_matrices=False)
+            direction, variance = u[:, 0], s[0] ** 2 + noise[j]
+        else:
+            direction = rng.standard_normal(means.shape[1])
+            direction, variance = direction / np.linalg.norm(direction), noise[j]
+        shift = np.sqrt(2.0 / np.pi * variance) * direction
+        means[i], means[j] = means[j] + shift, means[j] - shift
+        weights[i] = weights[j] = weights[j] / 2.0
+        components[i], noise[i] = components[j], noise[j]
+    return _Params(weights / weights.sum(), means, components, noise)
+
+
+def _ppca_from_covariance(cov, n_latent):
+    """Closed-form maximum-likelihood PPCA of a covariance (Tipping & Bishop 1999): (W (d, q), sigma^2).
+
+    ``sigma^2`` is the mean of the d - q smallest eigenvalues, ``(tr C - sum of the q largest) / (d - q)``,
+    and ``W = U_q (Lambda_q - sigma^2 I)^(1/2)``. Only the q leading eigenpairs are computed (LAPACK syevr).
+    """
+    n_features = cov.shape[0]
+    if n_latent == 0:
+        return np.zeros((n_features, 0)), max(float(np.trace(cov)) / n_features, 0.0)
+    eigval, eigvec = scipy.linalg.eigh(cov, subset_by_index=[n_features - n_latent, n_features - 1])
+    noise = max((float(np.trace(cov)) - float(eigval.sum())) / (n_features - n_latent), 0.0)
+    return eigvec * np.sqrt(np.maximum(eigval - noise, 0.0)), noise
+
+
+def _initialise(X, n_components, n_latent, chunk_size, rng):
+    """k-means, then the maximum-likelihood PPCA of each cluster's covariance; returns (params, starved).
+
+    Weights are the cluster fractions and means the cluster means. Clusters with fewer than q + 1 rows are
+    starved: their W and sigma^2 are left at zero for the caller to re-seed.
+    """
+    n_samples, n_features = X.shape
+    kmeans = KMeans(n_components, chunk_size=chunk_size, random_state=rng).fit(X)
+    counts = np.bincount(kmeans.labels_, minlength=n_components)
+    order = np.argsort(kmeans.labels_, kind="stable")
+    bounds = np.concatenate([[0], np.cumsum(counts)])
+    means = kmeans.cluster_centers_.copy()
+    components = np.zeros((n_components, n_features, n_latent))
+    noise = np.zeros(n_components)
+    starved = counts < n_latent + 1
+    for k in np.flatnonzero(~starved):
+        rows = order[bounds[k] : bounds[k + 1]]
+        centre = kmeans.cluster_centers_[k]
+        first = np.zeros(n_features)
+        scatter = np.zeros((n_features, n_features))
+        for start in range(0, rows.size, chunk_size):
+            y = np.asarray(X[rows[start : start + chunk_size]], dtype=np.float64) - centre
+            first += y.sum(axis=0)
+            scatter += y.T @ y
+        shift = first / counts[k]
+        means[k] = centre + shift
+        components[k], noise[k] = _ppca_from_covariance(scatter / counts[k] - np.outer(shift, shift), n_latent)
+    return _Params(counts / n_samples, means, components, noise), starved
+
+
+def _is_int(value):
+    return isinstance(value, int | np.integer) and not isinstance(value, bool)
+
+
+class MPPCA:
+    """Mixture of probabilistic PCA (Tipping & Bishop 1999) fitted by EM, as in Sun et al. (2006), Sec. 5.
+
+    Parameters
+    ----------
+    n_components : int
+        Number of PPCA components K; Sun et al. choose K = 200 by cross-validation (Sec. 6, Fig. 4).
+    n_latent : int
+        Latent dimension q of every component, ``0 <= q < d``. Sun et al. do not state q; 10 is our default.
+        With q = 0 the model is a mixture of spherical Gaussians.
+    max_iter : int
+        Maximum number of EM iterations (M-steps); 0 keeps the initialisation.
+    tol : float
+        EM stops when the mean log-likelihood per row changes by at most ``tol * |previous value|``. This
+        relative test depends on the units of the data: scaling the rows by c shifts the mean log-likelihood
+        by ``-d log c`` but leaves its changes alone.
+    init : {"kmeans"}
+        Initialisation: seeded k-means++ / Lloyd (:class:`voxpose.features.kmeans.KMeans`, default settings), then the
+        maximum-likelihood PPCA of each cluster's covariance (W from its top q eigenvectors, sigma^2 the mean
+        discarded eigenvalue) and the cluster fractions as weights.
+    chunk_size : int
+        Rows processed at once. Memory is O(K d q) for the statistics plus about ``chunk_size * K * (q + 1)``
+        floats of work space; a d x d covariance is formed only during initialisation, one cluster at a time.
+    min_noise_variance : float
+        Floor on every sigma_i^2, relative to the mean per-feature variance of the training data (the absolute
+        floor is stored as ``noise_variance_floor_``). It keeps a component that collapses onto identical rows
+        from driving the likelihood to infinity.
+    random_state : int, numpy Generator or None
+        Seed of the k-means++ draws and of the (q = 0) re-seeding directions.
+
+    Attributes
+    ----------
+    weights_ : ndarray, shape (K,)
+        Mixing proportions pi_i.
+    means_ : ndarray, shape (K, d)
+    components_ : ndarray, shape (K, d, q)
+        The W_i matrices (unique only up to a rotation of the latent space).
+    noise_variance_ : ndarray, shape (K,)
+        sigma_i^2.
+    noise_variance_floor_ : float
+    log_likelihood_ : list of float
+        Mean log-likelihood per row of the training data: entry 0 for the initialisation, entry t after
+        M-step t; the last entry belongs to the returned parameters, so it equals ``score(X)``.
+    n_iter_ : int
+        Number of M-steps performed.
+    converged_ : bool
+    n_reseeded_ : int
+        Count of starved components (``N_i < q + 1``) re-seeded during initialisation and EM.
+    n_features_in_ : int
+
+    Notes
+    -----
+    EM follows Tipping & Bishop (1999), Appendix C: the responsibilities ``R_ni`` of the E-step feed the
+    updates of pi_i and mu_i and then the one-step updates of W_i and sigma_i^2 from the local covariance
+    ``S_i`` taken about the new mean (see :func:`_m_step`). This is a generalised EM step: for the fixed
+    posteriors ``R``, pi and mu maximise the expected complete-data log-likelihood and the W, sigma^2
+    update is one EM step of the responsibility-weighted PPCA sub-problem (a floored sigma^2 is its
+    constrained maximiser), so the log-likelihood never decreases beyond round-off.
+
+    A component is starved when its share ``N_i = sum_n R_ni`` falls below q + 1 rows, too few to fit a
+    q-dimensional subspace; it is re-seeded by splitting the heaviest component (:func:`_reseed`). A split is
+    not a likelihood-ascent step: the likelihood may drop at that iteration, and convergence is never
+    declared on it. Each slot is re-seeded at most once for ``1 <= N_i < q + 1``: a genuine outlier (a few
+    rows far from the rest) attracts some component back every few iterations, and re-seeding again would
+    only cycle, so a slot that starves a second time keeps modelling its few rows (its sigma^2 held up by
+    the floor). A slot with ``N_i < 1`` cannot be estimated and is always re-seeded.
+    """
+
+    def __init__(
+        self,
+        n_components=200,
+        *,
+        n_latent=10,
+        max_iter=100,
+        tol=1e-4,
+        init="kmeans",
+        chunk_size=DEFAULT_CHUNK_SIZE,
+        min_noise_variance=1e-6,
+        random_state=None,
+    ):
+        self.n_components = n_components
+        self.n_latent = n_latent
+        self.max_iter = max_iter
+        self.tol = tol
+        self.init = init
+        self.chunk_size = chunk_size
+        self.min_noise_variance = min_noise_variance
+        self.random_state = random_state
+
+    def _check_params(self, n_samples, n_features):
+        """Validate the hyper-parameters against the data shape; return the chunk size."""
+        if not _is_int(self.n_components) or self.n_components < 1:
+            raise VoxposeError(f"n_components must be a positive integer, got {self.n_components!r}")
+        if not _is_int(self.n_latent) or not 0 <= self.n_latent < n_features:
+            raise VoxposeError(
+                f"n_latent must be an integer with 0 <= n_latent < {n_features} (the data dimension), "
+                f"got {self.n_latent!r}"
+            )
+        needed = self.n_components * (self.n_latent + 1)
+        if n_samples < needed:
+            raise VoxposeError(
+                f"MPPCA with {self.n_components} components of latent dimension {self.n_latent} needs at "
+                f"least {needed} rows (q + 1 per component), got {n_samples}"
+            )
+        if not _is_int(self.max_iter) or self.max_iter < 0:
+            raise VoxposeError(f"max_iter must be a non-negative integer, got {self.max_iter!r}")
+        if not np.isfinite(self.tol) or self.tol < 0:
+            raise VoxposeError(f"tol must be a non-negative number, got {self.tol!r}")
+        if self.init != "kmeans":
+            raise VoxposeError(f"init must be 'kmeans', got {self.init!r}")
+        if not np.isfinite(self.min_noise_variance) or self.min_noise_variance <= 0:
+            raise VoxposeError(f"min_noise_variance must be a positive number, got {self.min_noise_variance!r}")
+        return check_chunk_size(self.chunk_size)
+
+    def fit(self, X):
+        """Fit the mixture to the rows of ``X`` (n_samples, d) by EM; returns ``self``."""
+        X = check_rows(X, "MPPCA training data")
+        n_samples, n_features = X.shape
+        chunk = self._check_params(n_samples, n_features)
+        rng = np.random.default_rng(self.random_state)
+        variance = mean_feature_variance(X, chunk)
+        if variance <= 0.0:
+            raise VoxposeError("MPPCA training data has zero variance (all rows are identical)")
+        floor = self.min_noise_variance * variance
+        log.info(
+            "MPPCA: %d components, latent dimension %d, %d rows of dimension %d",
+            self.n_components,
+            self.n_latent,
+            n_samples,
+            n_features,
+        )
+        params, reseeded = _initialise(X, self.n_components, self.n_latent, chunk, rng)
+        params = params._replace(noise_variance=np.maximum(params.noise_variance, floor))
+        n_reseeded = int(reseeded.sum())
+        if n_reseeded:
+            params = _reseed(params, reseeded, rng)
+            log.info("MPPCA initialisation: re-seeded %d starved components", n_reseeded)
+        proj = _project(params)
+        stats = _accumulate(X, proj, chunk)
+        history = [stats.log_likelihood / n_samples]
+        log.info("MPPCA initialisation: mean log-likelihood %.6f", history[0])
+        n_iter, converged = 0, False
+        while n_iter < self.max_iter and not converged:
+            n_iter += 1
+            starved = (stats.counts < 1.0) | ((stats.counts < self.n_latent + 1) & ~reseeded)
+            params = _m_step(stats, proj, params, n_samples, floor)
+            if starved.any():
+                n_reseeded += int(starved.sum())
+                reseeded |= starved
+                params = _reseed(params, starved, rng)
+            proj = _project(params)
+            stats = _accumulate(X, proj, chunk)
+            history.append(stats.log_likelihood / n_samples)
+            change = history[-1] - history[-2]
+            converged = not starved.any() and abs(change) <= self.tol * abs(history[-2])
+            log.info(
+                "MPPCA EM iteration %d: mean log-likelihood %.6f (change %+.3g)%s",
+                n_iter,
+                history[-1],
+                change,
+                f", re-seeded {int(starved.sum())}" if starved.any() else "",
+            )
+        self.weights_, self.means_, self.components_, self.noise_variance_ = params
+        self.noise_variance_floor_ = floor
+        self.log_likelihood_ = history
+        self.n_iter_ = n_iter
+        self.converged_ = converged
+        self.n_reseeded_ = n_reseeded
+        self.n_features_in_ = n_features
+        log.info(
+            "MPPCA: %d EM iterations, converged: %s, %d components re-seeded, mean log-likelihood %.6f",
+            n_iter,
+            converged,
+            n_reseeded,
+            history[-1],
+        )
+        return self
+
+    def _scoring_setup(self, X):
+        """Validate ``X`` against the fitted model; return (X, projection, chunk size)."""
+        if not hasattr(self, "components_"):
+            raise VoxposeError("MPPCA is not fitted yet: call fit() first")
+        X = check_rows(X, "MPPCA input", self.n_features_in_)
+        params = _Params(self.weights_, self.means_, self.components_, self.noise_variance_)
+        return X, _project(params), check_chunk_size(self.chunk_size)
+
+    def score_samples(self, X):
+        """Log density ``log p(t_n)`` of each row of ``X`` (n, d) under the mixture: shape (n,)."""
+        X, proj, chunk = self._scoring_setup(X)
+        return np.concatenate([_logsumexp_rows(lj) for _, lj, _, _ in _log_joint_chunks(X, proj, chunk)])
+
+    def score(self, X):
+        """Mean log density per row of ``X`` (n, d)."""
+        return float(self.score_samples(X).mean())
+
+    def predict_proba(self, X):
+        """Responsibilities ``p(i | t_n)`` of each component for each row of ``X`` (n, d): shape (n, K)."""
+        X, proj, chunk = self._scoring_setup(X)
+        return np.concatenate(
+            [np.exp(lj - _logsumexp_rows(lj)[:, None]) for _, lj, _, _ in _log_joint_chunks(X, proj, chunk)]
+        )

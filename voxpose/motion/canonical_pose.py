@@ -1,0 +1,149 @@
+"""The pose vector y' of Section 2 (m' = 42 joint angles) from the positions of the 14 joints and 5 ends.
+
+Section 2 parameterises a pose by 3 joint angles for each of 14 major joints (torso centre, neck,
+shoulders, elbows, wrists, hips, knees, ankles) of the motion-capture skeleton. The paper uses one
+skeleton; we take motion from several (CMU, Bandai Namco, generated, a lab's own), whose Euler channel
+orders, rest-pose bone frames (CMU: world-aligned T-pose; Bandai: every bone along its local X, so its
+zero pose is not a T-pose) and units all differ. Copying channels across rigs would give different
+numbers for the same movement, so y' is defined from what all rigs share, the world positions of the 14
+canonical joints and 5 ends (``voxpose.motion.canon``), and is therefore the same for the same physical motion
+whatever the source rig:
+
+* root (pelvis) frame: ``y = unit(neck - root)``; ``x = unit(lhip - rhip)`` made orthogonal to ``y``;
+  ``z = x cross y`` (forward).
+* neck (upper torso and head) frame: ``y = unit(head_top - neck)``; ``x = unit(lshoulder - rshoulder)``
+  made orthogonal to ``y``; ``z = x cross y``.
+* each limb joint ``j`` (shoulders, elbows, wrists, hips, knees, ankles) with canonical parent ``p`` and
+  segment direction ``a_j`` (shoulder->elbow, elbow->wrist, wrist->hand tip, hip->knee, knee->ankle,
+  ankle->toe): ``R_j = minimal_rotation(R_p @ t_j, a_j) @ R_p`` with ``t_j = canon.TPOSE_DIRECTIONS[j]``,
+  i.e. the parent frame parallel-transported onto the segment (no twist relative to the parent).
+
+In the canonical T-pose (facing +Z, left = +X, Y up) every ``R_j`` is the identity. The joint angles are
+the Euler angles (per-joint orders ``motion.canon.EULER_ORDERS``: YXZ for the root, so its first angle is the body
+heading; XYZ for hips and knees, so flexion beyond 90 degrees never meets gimbal lock) of the local
+rotations ``Q_j = R_p^T R_j`` (root: ``Q = R_root``), in degrees, unwrapped over time.
+
+What is lost: the twist of a limb about its own axis (e.g. forearm pronation, thigh rotation). It does
+not show in joint positions and each rig's local frames define it differently, so it cannot be made
+consistent across rigs; here it is zero by construction, and each limb angle triple describes only the
+direction of its segment. The spine's bending between pelvis and neck is likewise summarised by the two
+frames.
+
+Offsets: the subject's skeleton in its own canonical frames, the median over frames of
+``R_p^T (pos_j - pos_p)`` (root row zero), so that forward kinematics of y' (``voxpose.motion.pose_kinematics``)
+gives back the joint positions relative to the root. Limb offsets are exact (rigid segments along
+``t_j``); the neck, shoulder and hip offsets absorb the spine and clavicle motion of the source, which is
+where the reconstruction differs from the source positions.
+"""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from voxpose.errors import VoxposeError
+from voxpose.motion import canon
+from voxpose.motion.rotations import matrix_to_euler_per_joint, minimal_rotation, unwrap_degrees
+
+_J = canon.INDEX
+_E = {name: i for i, name in enumerate(canon.ENDS)}
+# Limb joints in parent-before-child order, with the point their segment points to: (joint, "j"/"e", name).
+_LIMBS = (
+    ("lshoulder", "j", "lelbow"),
+    ("lelbow", "j", "lwrist"),
+    ("lwrist", "e", "lhand_tip"),
+    ("rshoulder", "j", "relbow"),
+    ("relbow", "j", "rwrist"),
+    ("rwrist", "e", "rhand_tip"),
+    ("lhip", "j", "lknee"),
+    ("lknee", "j", "lankle"),
+    ("lankle", "e", "ltoe"),
+    ("rhip", "j", "rknee"),
+    ("rknee", "j", "rankle"),
+    ("rankle", "e", "rtoe"),
+)
+# Joints whose flexion (about X) exceeds 90 degrees: Euler branch chosen for small outer angles.
+_EPS = 1e-9
+
+
+@dataclass
+class CanonicalPose:
+    """Canonical rotations, the 42 angles and the skeleton offsets of a motion.
+
+    Attributes
+    ----------
+    rotations : (F, 14, 3, 3) canonical world rotation of each joint (identity in the T-pose).
+    angles : (F, 42) y' in degrees: 3 Euler angles (``canon.EULER_ORDER``) per joint, ``canon.JOINTS`` order.
+    offsets : (14, 3) each joint's offset from its canonical parent in the parent's canonical frame (same
+        unit as the positions; root row zero).
+    """
+
+    rotations: np.ndarray
+    angles: np.ndarray
+    offsets: np.ndarray
+
+
+def _unit(v: np.ndarray, what: str) -> np.ndarray:
+    norm = np.linalg.norm(v, axis=-1, keepdims=True)
+    bad = np.flatnonzero(norm[..., 0] <= _EPS)
+    if bad.size:
+        raise VoxposeError(f"canonical pose: {what} has zero length in frame {bad[0]}")
+    return v / norm
+
+
+def _frame(y_vec: np.ndarray, x_vec: np.ndarray, what: str) -> np.ndarray:
+    """Rotation with columns x, y, z from an up vector and a roughly lateral vector, (F, 3) -> (F, 3, 3)."""
+    y = _unit(y_vec, f"the {what} up axis")
+    x = x_vec - np.sum(x_vec * y, axis=-1, keepdims=True) * y
+    x = _unit(x, f"the {what} left-right axis (parallel to its up axis)")
+    return np.stack([x, y, np.cross(x, y)], axis=-1)
+
+
+def canonical_rotations(positions: np.ndarray, ends: np.ndarray) -> np.ndarray:
+    """Canonical world rotations (F, 14, 3, 3) from joint positions (F, 14, 3) and ends (F, 5, 3)."""
+    positions = np.asarray(positions, dtype=np.float64)
+    ends = np.asarray(ends, dtype=np.float64)
+    n = positions.shape[0]
+    if positions.shape != (n, canon.N_JOINTS, 3) or ends.shape != (n, len(canon.ENDS), 3):
+        raise VoxposeError(
+            f"canonical pose: expected positions (F, 14, 3) and ends (F, 5, 3), got {positions.shape} and {ends.shape}"
+        )
+    if not (np.all(np.isfinite(positions)) and np.all(np.isfinite(ends))):
+        raise VoxposeError("canonical pose: positions or ends hold NaN or infinite values")
+    pos = {name: positions[:, i] for name, i in _J.items()}
+    end = {name: ends[:, i] for name, i in _E.items()}
+    rot = np.empty((n, canon.N_JOINTS, 3, 3))
+    rot[:, _J["root"]] = _frame(pos["neck"] - pos["root"], pos["lhip"] - pos["rhip"], "pelvis")
+    rot[:, _J["neck"]] = _frame(end["head_top"] - pos["neck"], pos["lshoulder"] - pos["rshoulder"], "neck")
+    for joint, kind, target in _LIMBS:
+        j = _J[joint]
+        r_parent = rot[:, canon.PARENTS[j]]
+        segment = (pos if kind == "j" else end)[target] - pos[joint]
+        direction = _unit(segment, f"segment {joint}->{target}")
+        rot[:, j] = minimal_rotation(r_parent @ canon.TPOSE_DIRECTIONS[j], direction) @ r_parent
+    return rot
+
+
+def local_rotations(rotations: np.ndarray) -> np.ndarray:
+    """Each joint's rotation relative to its canonical parent, ``Q_j = R_p^T R_j`` (root: ``R_root``)."""
+    parents = np.array(canon.PARENTS)
+    parent_rot = rotations[:, np.maximum(parents, 0)]
+    parent_rot[:, parents < 0] = np.eye(3)
+    return np.swapaxes(parent_rot, -1, -2) @ rotations
+
+
+def rotations_to_angles(local: np.ndarray) -> np.ndarray:
+    """Local rotations (F, 14, 3, 3) -> y' (F, 42) in degrees, unwrapped over time."""
+    euler = matrix_to_euler_per_joint(local, canon.EULER_ORDERS)
+    return unwrap_degrees(euler.reshape(euler.shape[0], canon.N_ANGLES), axis=0)
+
+
+def canonical_pose(positions: np.ndarray, ends: np.ndarray) -> CanonicalPose:
+    """Rotations, 42 angles and offsets from world joint positions (F, 14, 3) and ends (F, 5, 3)."""
+    rotations = canonical_rotations(positions, ends)
+    angles = rotations_to_angles(local_rotations(rotations))
+    parents = np.array(canon.PARENTS)
+    rel = positions[:, 1:] - positions[:, parents[1:]]
+    local_rel = np.einsum("fjba,fjb->fja", rotations[:, parents[1:]], rel)
+    offsets = np.zeros((canon.N_JOINTS, 3))
+    offsets[1:] = np.median(local_rel, axis=0)
+    return CanonicalPose(rotations=rotations, angles=angles, offsets=offsets)

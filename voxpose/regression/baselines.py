@@ -1,0 +1,191 @@
+"""Reference regressors to put the MVRVM's errors in context, with the same fit/predict interface.
+
+* ``MeanPose``: always the mean training target (the error of knowing nothing about the input).
+* ``NearestNeighbour``: the target of the training row nearest in feature space (Euclidean), the
+  exemplar-based approach of Section 1; ties go to the earliest row.
+* ``KernelRidge``: kernel ridge regression with the MVRVM's Gaussian kernel (``voxpose.regression.kernels``) on all
+  training rows, ``Y - mean(Y) = K a`` regularised by ``ridge * I``; the ridge is chosen on held-out
+  training rows when not given. The dense counterpart of the sparse MVRVM.
+"""
+
+import logging
+
+import numpy as np
+import scipy.linalg
+
+from voxpose.errors import VoxposeError
+from voxpose.regression.kernels import (
+    as_rows,
+    check_width,
+    gaussian_kernel,
+    holdout_split,
+    median_pairwise_distance,
+    squared_distances,
+)
+
+log = logging.getLogger(__name__)
+
+_JITTER_TRIES = 6
+
+
+def _training_pair(X, Y, who: str) -> tuple[np.ndarray, np.ndarray, bool]:
+    """Validated (N, d) features and (N, P) targets, and whether Y was 1-D."""
+    x = as_rows(X, f"{who}: X")
+    y = np.asarray(Y, dtype=np.float64)
+    single = y.ndim == 1
+    y = as_rows(y[:, None] if single else y, f"{who}: Y")
+    if x.shape[0] != y.shape[0]:
+        raise VoxposeError(f"{who}: X has {x.shape[0]} rows but Y has {y.shape[0]}")
+    return x, y, single
+
+
+def cholesky_solve(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Solve ``a x = b`` for symmetric positive (semi-)definite ``a`` by Cholesky.
+
+    When the factorisation fails (``a`` singular to working precision) a jitter of 1e-10 times the mean
+    diagonal is added, growing tenfold up to 1e-5, before giving up with a ``VoxposeError``.
+    """
+    jitter = 0.0
+    scale = float(np.mean(np.diag(a)))
+    for attempt in range(_JITTER_TRIES + 1):
+        try:
+            factor = scipy.linalg.cho_factor(a + jitter * np.eye(a.shape[0]), lower=True, check_finite=False)
+        except np.linalg.LinAlgError:
+            jitter = scale * 1e-10 * 10.0**attempt
+            continue
+        if jitter:
+            log.warning("Cholesky: added jitter %.3g to the diagonal", jitter)
+        return scipy.linalg.cho_solve(factor, b, check_finite=False)
+    raise VoxposeError("kernel ridge: the regularised kernel matrix is not positive definite, even with jitter")
+
+
+class _Baseline:
+    """Shared prediction plumbing: 1-D targets in, 1-D predictions out."""
+
+    def _check_input(self, X) -> np.ndarray:
+        if not hasattr(self, "n_features_in_"):
+            raise VoxposeError(f"{type(self).__name__}: call fit before predict")
+        return as_rows(X, f"{type(self).__name__}: X", self.n_features_in_)
+
+    def _output(self, pred: np.ndarray) -> np.ndarray:
+        return pred[:, 0] if self._single_output else pred
+
+
+class MeanPose(_Baseline):
+    """Predicts the mean training target for every input. Attribute ``mean_`` (P,)."""
+
+    def fit(self, X, Y) -> "MeanPose":
+        x, y, self._single_output = _training_pair(X, Y, "MeanPose")
+        self.n_features_in_ = x.shape[1]
+        self.mean_ = y.mean(axis=0)
+        return self
+
+    def predict(self, X) -> np.ndarray:
+        x = self._check_input(X)
+        return self._output(np.tile(self.mean_, (x.shape[0], 1)))
+
+
+class NearestNeighbour(_Baseline):
+    """Predicts the target of the nearest training row (Euclidean distance in feature space).
+
+    Attributes ``X_`` (N, d) and ``Y_`` (N, P): the training rows. Distances are computed in blocks of
+    ``block`` query rows to bound memory.
+    """
+
+    def __init__(self, block: int = 1024):
+        self.block = block
+
+    def fit(self, X, Y) -> "NearestNeighbour":
+        self.X_, self.Y_, self._single_output = _training_pair(X, Y, "NearestNeighbour")
+        self.n_features_in_ = self.X_.shape[1]
+        return self
+
+    def neighbours(self, X) -> np.ndarray:
+        """Index (n,) of the nearest training row of each query row (the first one on ties)."""
+        x = self._check_input(X)
+        out = np.empty(x.shape[0], dtype=np.int64)
+        for start in range(0, x.shape[0], self.block):
+            stop = start + self.block
+            out[start:stop] = np.argmin(squared_distances(x[start:stop], self.X_), axis=1)
+        return out
+
+    def predict(self, X) -> np.ndarray:
+        rows = self.neighbours(X)
+        return self._output(self.Y_[rows])
+
+
+class KernelRidge(_Baseline):
+    """Kernel ridge regression with the Gaussian kernel of Eq. 3.
+
+    Parameters
+    ----------
+    kernel_width : ``w`` of ``exp(-||x - x'||^2 / (2 w^2))``, or ``"median"`` (median pairwise distance).
+    ridge : the regulariser ``lambda`` (kernel values are at most 1, so it is relative to the kernel's
+        diagonal), or None: chosen from ``ridges`` on held-out training rows (lowest validation RMSE,
+        ``voxpose.regression.kernels.holdout_split`` with ``validation_fraction`` and the ``groups`` given to
+        ``fit``), then refitted on all rows.
+    random_state : seed of the held-out split and of the median distance's row subset.
+
+    Attributes
+    ----------
+    dual_coef_ : (N, P) weights ``a`` of the training rows; ``intercept_`` (P,) the mean target.
+    ridge_ : the regulariser used; ``kernel_width_`` the width used; ``validation_`` the ridge table
+        (list of ``(ridge, validation RMSE)``) when the ridge was chosen.
+    """
+
+    def __init__(
+        self,
+        kernel_width="median",
+        ridge=None,
+        ridges=(1e-4, 1e-3, 1e-2, 1e-1, 1.0, 10.0),
+        validation_fraction: float = 0.2,
+        random_state=None,
+    ):
+        self.kernel_width = kernel_width
+        self.ridge = ridge
+        self.ridges = ridges
+        self.validation_fraction = validation_fraction
+        self.random_state = random_state
+
+    @staticmethod
+    def _solve(gram: np.ndarray, y: np.ndarray, ridge: float) -> tuple[np.ndarray, np.ndarray]:
+        mean = y.mean(axis=0)
+        return cholesky_solve(gram + ridge * np.eye(gram.shape[0]), y - mean), mean
+
+    def fit(self, X, Y, groups=None) -> "KernelRidge":
+        x, y, self._single_output = _training_pair(X, Y, "KernelRidge")
+        if self.kernel_width == "median":
+            self.kernel_width_ = median_pairwise_distance(x, random_state=self.random_state)
+        else:
+            self.kernel_width_ = check_width(self.kernel_width)
+        gram = gaussian_kernel(x, x, self.kernel_width_)
+        if self.ridge is None:
+            fit_rows, val_rows = holdout_split(x.shape[0], self.validation_fraction, groups, self.random_state)
+            table = []
+            for ridge in self.ridges:
+                coef, mean = self._solve(gram[np.ix_(fit_rows, fit_rows)], y[fit_rows], self._check_ridge(ridge))
+                err = gram[np.ix_(val_rows, fit_rows)] @ coef + mean - y[val_rows]
+                table.append((float(ridge), float(np.sqrt(np.mean(np.sum(err * err, axis=1))))))
+            self.validation_ = table
+            self.ridge_ = min(table, key=lambda row: row[1])[0]
+            log.info("kernel ridge: ridge %.3g chosen on %d held-out rows", self.ridge_, val_rows.size)
+        else:
+            self.ridge_ = self._check_ridge(self.ridge)
+        self.dual_coef_, self.intercept_ = self._solve(gram, y, self.ridge_)
+        self.X_ = x
+        self.n_features_in_ = x.shape[1]
+        return self
+
+    @staticmethod
+    def _check_ridge(ridge) -> float:
+        try:
+            value = float(ridge)
+        except (TypeError, ValueError):
+            raise VoxposeError(f"kernel ridge: ridge must be a non-negative number, got {ridge!r}") from None
+        if not (np.isfinite(value) and value >= 0):
+            raise VoxposeError(f"kernel ridge: ridge must be a non-negative number, got {ridge!r}")
+        return value
+
+    def predict(self, X) -> np.ndarray:
+        x = self._check_input(X)
+        return self._output(gaussian_kernel(x, self.X_, self.kernel_width_) @ self.dual_coef_ + self.intercept_)
