@@ -117,9 +117,23 @@ def test_tags_distinguish_parameter_sets(config):
     assert wc.feature_tag("kmeans", config["features"]) == "kmeans-K200-n5"
 
 
-def test_code_hash_changes_with_content(tmp_path):
-    a = tmp_path / "a.py"
-    a.write_text("x = 1\n")
-    h1 = wc.code_hash([a])
-    a.write_text("x = 2\n")
-    assert wc.code_hash([a]) != h1
+def test_a_changed_rig_that_keeps_its_name_is_refused(tmp_path):
+    from voxpose.voxels.cameras import rig_from_config, save_rig
+
+    section = {"name": "ring", "file": None, "n_cameras": 4, "radius": 4.0, "height": 2.0, "target_height": 1.0,
+               "focal_px": 300.0, "width": 120, "image_height": 100}  # fmt: skip
+    wc.check_rig_names({"ring": ("rig", section)}, tmp_path)  # nothing made yet: accepted
+    save_rig(rig_from_config(section), tmp_path / "ring.json")
+    wc.check_rig_names({"ring": ("rig", section)}, tmp_path)  # the same rig: accepted
+    with pytest.raises(VoxposeError, match="config key rig: the rig named 'ring' differs"):
+        wc.check_rig_names({"ring": ("rig", section | {"n_cameras": 8})}, tmp_path)
+    wc.check_rig_names({"ring8": ("rig", section | {"n_cameras": 8, "name": "ring8"})}, tmp_path)  # renamed
+
+
+def test_a_rig_derived_from_the_default_rig_is_tagged_by_both_names():
+    rig = {"name": "main", "file": None, "n_cameras": 6, "radius": 4.0}
+    claims = {"rigs": [{"name": "four", "n_cameras": 4}, {"name": "lab", "file": "lab.json"}], "retrain": ["four"]}
+    rigs = wc.claims_rigs(claims, rig)
+    assert set(rigs) == {"main.four", "lab"}
+    assert rigs["main.four"]["name"] == "four" and rigs["main.four"]["n_cameras"] == 4
+    assert set(wc.claims_rigs(claims, rig | {"name": "other"})) == {"other.four", "lab"}

@@ -7,12 +7,12 @@ target, and changing one value creates new targets instead of overwriting old on
 """
 
 import fnmatch
-import hashlib
 from pathlib import Path
 
 import jsonschema
 import yaml
 
+from voxpose.descriptors.settings import DescriptorSettings, tag_number
 from voxpose.errors import VoxposeError
 
 
@@ -94,15 +94,9 @@ def resolve_experiment(name: str, exp: dict, names, key_prefix: str) -> dict:
     return {"train": train, "test": test}
 
 
-def _num(x) -> str:
-    return f"{x:.4g}"
-
-
 def descriptor_tag(cfg: dict) -> str:
     """Readable directory name of a descriptor parameter set (Section 4)."""
-    tag = f"R{_num(cfg['r_max'])}-r{_num(cfg['r_min'])}-{cfg['n_r']}x{cfg['n_e']}x{cfg['n_a']}"
-    tag += "-soft" if cfg["soft"] else "-hard"
-    return tag + ("-norm" if cfg["normalise"] else "")
+    return DescriptorSettings.from_config(cfg).tag()
 
 
 def feature_tag(method: str, cfg: dict) -> str:
@@ -112,14 +106,6 @@ def feature_tag(method: str, cfg: dict) -> str:
     if method == "kmeans":
         return f"kmeans-K{cfg['n_components']}-n{cfg['kmeans_neighbours']}"
     raise VoxposeError(f"unknown feature method {method!r} (mppca or kmeans)")
-
-
-def code_hash(paths) -> str:
-    """Short hash of source files: a rule's ``params`` entry so that an algorithm change reruns its jobs."""
-    digest = hashlib.sha256()
-    for path in sorted(str(p) for p in paths):
-        digest.update(Path(path).read_bytes())
-    return digest.hexdigest()[:16]
 
 
 # --- the measured claims (issue 8) ---------------------------------------------------------------------------
@@ -136,25 +122,48 @@ def rig_camera_count(section: dict) -> int:
     return int(section["n_cameras"])
 
 
-def claims_rigs(claims: dict, rig: dict) -> dict:
-    """Test rigs of ``claims.rigs`` as complete `rig` sections by name: overrides of ``rig``, or a file.
+def check_rig_names(rigs: dict, rigs_dir) -> None:
+    """Refuse a rig whose name already names another rig in ``rigs_dir`` (the workflow's ``results/rigs``).
 
+    Every result carved from a rig lives under the rig's name, so a changed rig that kept its name would mix
+    its results with the old rig's (and changing back would recompute them). ``rigs`` maps each rig name to
+    (config key, config section): the default ``rig`` and the ``claims.rigs``.
+    """
+    from voxpose.voxels.cameras import rig_from_config, rig_json
+
+    for name, (key, section) in rigs.items():
+        path = Path(rigs_dir) / f"{name}.json"
+        if path.is_file() and path.read_text() != rig_json(rig_from_config(section)):
+            raise VoxposeError(
+                f"config key {key}: the rig named {name!r} differs from the one in {path} that earlier results "
+                f"were carved from; give the changed rig a new name (or delete {path} to replace it)"
+            )
+
+
+def claims_rigs(claims: dict, rig: dict) -> dict:
+    """Test rigs of ``claims.rigs`` as complete `rig` sections (``name`` the entry's) by their results tag.
+
+    A rig from a calibration ``file`` is tagged by its name. A rig that overrides some of the default ``rig``'s
+    parameters depends on the default rig too, so its tag is ``<default rig name>.<name>``: a changed default
+    rig must take a new name (``check_rig_names``), and the rigs derived from it then get new tags with it.
     Names must be unique, differ from the default rig's and not contain ``__`` (that marks degraded sets);
     ``claims.retrain`` may name only listed rigs.
     """
     out = {}
+    names = set()
     for i, entry in enumerate(claims["rigs"]):
         name = entry["name"]
-        if name == rig["name"] or name in out or "__" in name:
+        if name == rig["name"] or name in names or "__" in name:
             why = "contains '__'" if "__" in name else "is used twice (or is the default rig's name)"
             raise VoxposeError(f"config key claims.rigs.{i}.name: {name!r} {why}")
+        names.add(name)
         section = dict(rig, name=name, file=entry.get("file"))
         section |= {k: entry[k] for k in _RIG_OVERRIDES if k in entry}
-        out[name] = section
+        out[name if section["file"] else f"{rig['name']}.{name}"] = section
     if "__" in rig["name"]:
         raise VoxposeError(f"config key rig.name: {rig['name']!r} must not contain '__' (it marks degraded sets)")
     for i, name in enumerate(claims["retrain"]):
-        if name not in out:
+        if name not in names:
             raise VoxposeError(f"config key claims.retrain.{i}: {name!r} is not one of claims.rigs")
     return out
 
@@ -180,7 +189,8 @@ def degraded_sets(claims: dict, rig_name: str, n_cameras: int) -> dict:
 
 def contour_tag(cfg: dict) -> str:
     """Readable name of a 2D shape-context parameter set (``voxpose.descriptors.contour``)."""
-    return f"sc2d-p{cfg['n_points']}-{cfg['n_r']}x{cfg['n_theta']}-r{_num(cfg['r_inner'])}-{_num(cfg['r_outer'])}"
+    radii = f"r{tag_number(cfg['r_inner'])}-{tag_number(cfg['r_outer'])}"
+    return f"sc2d-p{cfg['n_points']}-{cfg['n_r']}x{cfg['n_theta']}-{radii}"
 
 
 def at_tag(cfg: dict, cameras) -> str:

@@ -44,6 +44,18 @@ def test_bad_params_json_is_named():
     _one_line_error(voxpose("motion", "x.bvh", "-o", "y.h5", "--params", "{fps: 30"), "--params")
 
 
+@pytest.mark.parametrize(
+    ("command", "key"),
+    [("describe", '{"bogus": 1}'), ("voxelize", '{"l_res": 0.05}')],
+)
+def test_an_unknown_params_key_is_named_and_nothing_is_written(motion_file, tmp_path, command, key):
+    source = motion_file if command == "voxelize" else tmp_path / "missing.h5"
+    extra = ["--rig", tmp_path / "missing.json"] if command == "voxelize" else []
+    proc = voxpose(command, source, *extra, "--params", key, "-o", tmp_path / "out.h5")
+    _one_line_error(proc, "--params: unknown key", key.split('"')[1])
+    assert not (tmp_path / "out.h5").exists()
+
+
 @pytest.fixture(scope="module")
 def motion_file(tmp_path_factory):
     d = tmp_path_factory.mktemp("cli")

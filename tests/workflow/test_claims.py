@@ -45,7 +45,9 @@ def test_claims_rigs_and_degraded_sets_from_the_default_config():
     wc.validate_config(config, ROOT / "config/schema.yaml")
     rigs = wc.claims_rigs(config["claims"], config["rig"])
     assert [wc.rig_camera_count(r) for r in rigs.values()] == [4, 8, 12, 6, 6]
-    assert rigs["far"]["radius"] == 6.0 and rigs["far"]["focal_px"] == config["rig"]["focal_px"]
+    far = rigs["circle6.far"]  # derived from the default rig: tagged by both names
+    assert far["name"] == "far" and far["radius"] == 6.0 and far["focal_px"] == config["rig"]["focal_px"]
+    assert "irregular6" in rigs  # from a calibration file: its own name
     sets = wc.degraded_sets(config["claims"], "circle6", 6)
     levels = sum(len(v) for v in config["claims"]["degradations"].values())
     assert len(sets) == 2 * (levels + 1)

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+import yaml
 
 from tests.helpers import ROOT
 
@@ -23,17 +24,21 @@ def snakemake(workdir, *args, configfiles=(), check=True):
     """Run Snakemake on the quick config (plus ``configfiles``, merged in order: one --configfile option)."""
     files = ["config/quick.yaml", *map(str, configfiles)]
     cmd = [sys.executable, "-m", "snakemake", "--cores", "2", *args, "--configfile", *files]
-    # the rules call `voxpose`: make sure the one installed beside this Python is found first
-    env = os.environ | {"PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}"}
+    # the rules call `voxpose`: the one installed beside this Python, running the package copy in `workdir`
+    # (tests edit that copy to see which rules an edit reruns)
+    env = os.environ | {
+        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}",
+        "PYTHONPATH": str(workdir),
+    }
     proc = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, env=env)
     if check and proc.returncode != 0:
         raise AssertionError(f"snakemake {' '.join(args)} failed:\n{proc.stdout[-4000:]}\n{proc.stderr[-6000:]}")
     return proc
 
 
-def scheduled(workdir, *configfiles) -> dict:
+def scheduled(workdir, *configfiles, args=()) -> dict:
     """Rules (and job counts) a dry run would execute with the quick config plus ``configfiles``."""
-    out = snakemake(workdir, "-n", configfiles=configfiles).stdout
+    out = snakemake(workdir, "-n", *args, configfiles=configfiles).stdout
     if "Nothing to be done" in out:
         return {}
     table = out.split("Job stats:", 1)[1]
@@ -44,7 +49,7 @@ def scheduled(workdir, *configfiles) -> dict:
 @pytest.fixture(scope="module")
 def workflow_dir(tmp_path_factory):
     work = tmp_path_factory.mktemp("workflow")
-    for item in ("Snakefile", "workflow", "config"):
+    for item in ("Snakefile", "workflow", "config", "voxpose"):
         src = ROOT / item
         (shutil.copytree if src.is_dir() else shutil.copy)(src, work / item)
     snakemake(work)
@@ -128,10 +133,111 @@ def test_changing_r_max_reruns_descriptors_onward_not_carving(workflow_dir):
     assert not {"generate_bvh", "motion", "rig", "voxelize"} & set(jobs)
 
 
-def test_changing_the_rig_reruns_from_carving(workflow_dir):
-    jobs = scheduled(workflow_dir, _override(workflow_dir, "rig", "rig:\n  radius: 4.5\n"))
+def test_a_changed_rig_under_a_new_name_reruns_from_carving(workflow_dir):
+    jobs = scheduled(workflow_dir, _override(workflow_dir, "rig", "rig:\n  name: far\n  radius: 4.5\n"))
     assert {"rig", "voxelize", "describe", "fit_features", "regress", "table1"} <= set(jobs)
     assert not {"generate_bvh", "motion"} & set(jobs)
+
+
+def test_a_changed_rig_that_keeps_its_name_is_refused(workflow_dir):
+    # its results would land in the old rig's folders (rig.n_cameras: 8 under circle6)
+    bad = _override(workflow_dir, "rig_same_name", "rig:\n  n_cameras: 8\n")
+    proc = snakemake(workflow_dir, "-n", configfiles=[bad], check=False)
+    assert proc.returncode != 0
+    assert "voxpose: error: config key rig: the rig named 'circle6-quick' differs from the one in" in proc.stderr
+
+
+def _rules_and_commands() -> dict:
+    """Rule name -> the `voxpose` subcommand its shell runs and the subcommand its code hash names."""
+    out = {}
+    for path in (ROOT / "workflow/rules").glob("*.smk"):
+        for block in re.split(r"(?m)^(?=rule \w+:)", path.read_text())[1:]:
+            name = re.match(r"rule (\w+):", block)[1]
+            shell = re.search(r'"voxpose ([a-z0-9-]+)', block)
+            code = re.search(r'code=code\("([a-z0-9-]+)"\)', block)
+            out[name] = (shell and shell[1], code and code[1])
+    return out
+
+
+def test_every_rule_hashes_the_code_of_the_command_it_runs():
+    rules = _rules_and_commands()
+    assert rules, "no rules found"
+    for name, (shell, code) in rules.items():
+        if name != "all":
+            assert shell is not None and code == shell, name
+
+
+def _rules_reaching(workdir, module: str) -> list[str]:
+    """Rules whose command's import closure contains ``module`` (computed on the package copy in ``workdir``)."""
+    from voxpose.cli.main import SUBCOMMANDS
+    from voxpose.import_graph import closure, import_graph
+
+    graph = import_graph(workdir / "voxpose")
+    return sorted(name for name, (shell, _) in _rules_and_commands().items()
+                  if shell and module in closure(SUBCOMMANDS[shell].module, graph))  # fmt: skip
+
+
+def _edited(workdir, module: str):
+    """Append a comment to ``module`` of the package copy; return a function that restores it."""
+    path = workdir / (module.replace(".", "/") + ".py")
+    text = path.read_text()
+    path.write_text(text + "\n# edited by a test\n")
+    return lambda: path.write_text(text)
+
+
+@pytest.mark.parametrize(
+    "module",
+    [
+        "voxpose.descriptors.contour",  # reached by the A&T rules only through voxpose.features.silhouette
+        "voxpose.voxels.surface",  # reached by the carving rules through voxpose.voxels.voxelize
+    ],
+)
+def test_editing_a_module_reruns_the_rules_that_reach_it_and_their_dependants_only(workflow_dir, module):
+    reaching = _rules_reaching(workflow_dir, module)
+    assert reaching  # the module is used indirectly by some rule of the DAG
+    expected = scheduled(workflow_dir, args=("--forcerun", *reaching))
+    restore = _edited(workflow_dir, module)
+    try:
+        assert scheduled(workflow_dir) == expected
+    finally:
+        restore()
+    assert scheduled(workflow_dir) == {}
+
+
+def test_editing_a_module_no_rule_reaches_reruns_nothing(workflow_dir):
+    assert _rules_reaching(workflow_dir, "voxpose.apply.animation") == []  # `voxpose render`, not in the DAG
+    restore = _edited(workflow_dir, "voxpose.apply.animation")
+    try:
+        assert scheduled(workflow_dir) == {}
+    finally:
+        restore()
+
+
+def test_an_override_with_every_key_at_its_current_value_schedules_nothing(workflow_dir):
+    # every section reversed: a --configfile merge reorders keys, which must not read as a change
+    config = yaml.safe_load((workflow_dir / "config/config.yaml").read_text())
+    for key, value in yaml.safe_load((workflow_dir / "config/quick.yaml").read_text()).items():
+        config[key] = value if not isinstance(value, dict) else config[key] | value
+
+    def reverse(value):
+        return {k: reverse(value[k]) for k in reversed(value)} if isinstance(value, dict) else value
+
+    same = _override(workflow_dir, "same", yaml.safe_dump(reverse(config), sort_keys=False))
+    assert scheduled(workflow_dir, same) == {}
+
+
+# The artifacts at fixed paths (results/tables/table1.csv, ...) show the current config's results: they are
+# rebuilt from cached results (seconds each) when the config changes, and on the way back.
+ARTIFACT_RULES = {"table1", "table2", "figure4", "gallery", "joint_errors", "error_over_time", "camera_figure",
+                  "robustness_figure", "all"}  # fmt: skip
+
+
+def test_changing_back_after_a_change_recomputes_nothing(workflow_dir):
+    changed = _override(workflow_dir, "k_changed", "features:\n  n_components: 12\n")
+    snakemake(workflow_dir, configfiles=[changed])
+    assert set(scheduled(workflow_dir)) <= ARTIFACT_RULES
+    snakemake(workflow_dir)
+    assert scheduled(workflow_dir) == {}
 
 
 def test_same_config_gives_identical_tables(workflow_dir):

@@ -28,6 +28,7 @@ from voxpose.regression.mvrvm import MVRVM
 from voxpose.regression.pose_encoding import ENCODINGS
 from voxpose.regression.pose_space import PosePCA
 from voxpose.regression.stored import regressor_arrays, regressor_from_arrays
+from voxpose.voxels.settings import VoxelSettings
 
 LAYOUT = "model"
 MODEL_FORMAT = 1
@@ -103,5 +104,4 @@ def load_model(path) -> PoseModel:
 
 def voxel_settings(cfg: dict, seed: int) -> dict:
     """The model's voxel settings from the config's ``voxels`` section and the master seed."""
-    return {"l_res_fraction": float(cfg.get("l_res_fraction", 1 / 60)), "min_views": cfg.get("min_views"),
-            "n_basis": int(cfg.get("n_basis", 200)), "seed": int(seed)}  # fmt: skip
+    return VoxelSettings.from_config(cfg).carving() | {"seed": int(seed)}

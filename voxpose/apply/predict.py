@@ -30,7 +30,8 @@ import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
 from voxpose.apply.model_file import PoseModel
-from voxpose.descriptors.lut import ShapeContextTable
+from voxpose.descriptors.sequence import describe_sequence
+from voxpose.descriptors.settings import DescriptorSettings
 from voxpose.errors import VoxposeError
 from voxpose.evaluation import metrics
 from voxpose.motion import canon
@@ -99,18 +100,8 @@ def check_voxels(model: PoseModel, seq: VoxelSequence, meta: dict, path) -> None
 
 def describe(model: PoseModel, seq: VoxelSequence) -> list:
     """3D shape contexts (B_f, bins) of every frame (empty for gaps), float32-rounded like the workflow's files."""
-    table = ShapeContextTable(seq.h_sub / seq.l_res, **model.descriptor)
-    out = [np.zeros((0, table.n_bins)) for _ in range(seq.n_frames)]
-    carved = np.flatnonzero(~seq.empty)
-
-    def pairs():
-        for f in carved:
-            ijk, surface, basis = seq.frame(f)
-            yield ijk[surface], ijk[basis]
-
-    for f, desc in zip(carved, table.describe_frames(pairs()), strict=True):
-        out[f] = desc.astype(np.float32).astype(np.float64)
-    return out
+    settings = DescriptorSettings.from_config(model.descriptor, "model descriptor")
+    return [d.astype(np.float32).astype(np.float64) for d in describe_sequence(seq, settings)]
 
 
 def featurise(model: PoseModel, descriptors: list) -> tuple[np.ndarray, np.ndarray]:

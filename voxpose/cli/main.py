@@ -9,7 +9,36 @@ import argparse
 import logging
 import os
 import sys
+from collections.abc import Callable
+from dataclasses import dataclass
 
+from voxpose.cli import (
+    carve,
+    claims_figure,
+    derive,
+    describe,
+    error_over_time,
+    export_model,
+    features,
+    figure4,
+    fit_features,
+    fit_silhouette_features,
+    gallery,
+    generate,
+    joint_errors,
+    motion,
+    predict,
+    regress,
+    render,
+    rig,
+    silhouette_contexts,
+    silhouette_features,
+    table1,
+    table2,
+    transfer_predict,
+    voxelize,
+    voxelize_degraded,
+)
 from voxpose.errors import VoxposeError
 
 log = logging.getLogger("voxpose")
@@ -26,29 +55,43 @@ def _setup_logging(log_file) -> None:
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s: %(message)s", handlers=handlers, force=True)
 
 
-# Modules that define subcommands, each with a ``COMMANDS`` dict {name: (help, add_arguments, run)}.
-COMMAND_MODULES = ("pipeline", "model", "claims")
+
+@dataclass(frozen=True)
+class Subcommand:
+    """One ``voxpose`` subcommand: its help line, argument builder, entry point and defining module.
+
+    ``module`` is what a workflow rule's code hash covers (the import closure of that module,
+    ``voxpose.import_graph``): one module per subcommand, so a rule reruns for exactly the code it runs.
+    """
+
+    help: str
+    add_arguments: Callable
+    run: Callable
+    module: str
 
 
-def _commands():
-    import importlib
+def _of(module) -> tuple[str, Subcommand]:
+    return module.NAME, Subcommand(module.HELP, module.add_arguments, module.run, module.__name__)
 
-    merged = {}
-    for name in COMMAND_MODULES:
-        commands = importlib.import_module(f".{name}", __package__).COMMANDS
-        clash = sorted(set(commands) & set(merged))
-        if clash:  # a programming error, caught by the CLI tests
-            raise RuntimeError(f"voxpose.{name} redefines subcommand(s) {', '.join(clash)}")
-        merged.update(commands)
-    return merged
+
+SUBCOMMANDS = dict(
+    map(_of, (generate, derive, motion, rig, voxelize, carve, describe, fit_features, features, regress, table1,
+              table2, figure4, joint_errors, error_over_time, gallery, voxelize_degraded, transfer_predict,
+              silhouette_contexts, fit_silhouette_features, silhouette_features, export_model, predict, render))
+) | {  # fmt: skip
+    "camera-figure": Subcommand("error against camera rig: transferred, retrained, A&T", claims_figure.add_arguments,
+                                claims_figure.run_cameras, claims_figure.__name__),
+    "robustness-figure": Subcommand("error against silhouette degradation", claims_figure.add_arguments,
+                                    claims_figure.run_robustness, claims_figure.__name__),
+}  # fmt: skip
 
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="voxpose", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for name, (help_text, add_arguments, _) in _commands().items():
-        p = sub.add_parser(name, help=help_text, description=help_text)
-        add_arguments(p)
+    for name, command in SUBCOMMANDS.items():
+        p = sub.add_parser(name, help=command.help, description=command.help)
+        command.add_arguments(p)
         p.add_argument("--log", help="also write progress to this file")
         p.add_argument("--threads", type=int, default=1, help="threads for numerical libraries (default 1)")
     return parser
@@ -60,7 +103,7 @@ def main(argv=None) -> int:
     for var in THREAD_VARIABLES:  # before numpy is imported: BLAS reads them once
         os.environ.setdefault(var, str(max(1, args.threads)))
     _setup_logging(args.log)
-    run = _commands()[args.command][2]
+    run = SUBCOMMANDS[args.command].run
     try:
         run(args)
     except VoxposeError as err:

@@ -1,9 +1,20 @@
-"""The descriptor file of one motion: its 3D shape contexts per frame and their basis voxels (Section 4)."""
+"""Descriptor files of one motion: its 3D shape contexts per frame and their basis voxels (Section 4), and the 2D
+shape contexts of its silhouette contours per image (the Agarwal & Triggs-style comparison)."""
 
 import numpy as np
 
 from voxpose.io.atomic import atomic_path
-from voxpose.io.hdf5 import check_layout, new_file, open_layout, read_meta, read_ragged, write_meta, write_ragged
+from voxpose.io.hdf5 import (
+    check_layout,
+    new_file,
+    open_layout,
+    read_arrays,
+    read_meta,
+    read_ragged,
+    write_arrays,
+    write_meta,
+    write_ragged,
+)
 
 # --- descriptors/{rig}/{desc}/{motion}.h5: 3D shape contexts per frame (Section 4) -----------------------
 
@@ -23,3 +34,14 @@ def read_descriptors(path):
         check_layout(f, path, "descriptors")
         desc = [d.astype(np.float64) for d in read_ragged(f, "descriptors")]
         return desc, read_ragged(f, "basis_ijk"), read_meta(f)
+
+
+def write_contours(path, contexts, offsets, meta: dict) -> None:
+    """2D shape contexts of every image, concatenated: image i's rows are ``contexts[offsets[i]:offsets[i + 1]]``."""
+    write_arrays(path, "silhouette-contexts", {"contexts": contexts, "offsets": offsets}, meta)
+
+
+def read_contours(path):
+    """-> (contexts (N, bins), offsets (images + 1,), meta) of a file written by ``write_contours``."""
+    arrays, meta = read_arrays(path, "silhouette-contexts")
+    return arrays["contexts"], arrays["offsets"], meta

@@ -311,8 +311,24 @@ def load_rig(path) -> Rig:
         raise VoxposeError(f"{path}: {err}") from None
 
 
-def save_rig(rig: Rig, path) -> None:
-    """Write ``rig`` as JSON (K, R, t and image size per camera), atomically."""
+def rig_from_config(cfg: dict) -> Rig:
+    """The rig of a config ``rig`` section: its calibration ``file``, else a ``circular_rig`` of its parameters."""
+    if cfg.get("file"):
+        return load_rig(cfg["file"])
+    return circular_rig(
+        n=cfg["n_cameras"],
+        radius=cfg["radius"],
+        height=cfg["height"],
+        focal_px=cfg["focal_px"],
+        width=cfg["width"],
+        image_height=cfg["image_height"],
+        target=(0.0, cfg["target_height"], 0.0),
+        name=cfg["name"],
+    )
+
+
+def rig_json(rig: Rig) -> str:
+    """The calibration file's text of ``rig`` (K, R, t and image size per camera): what ``save_rig`` writes."""
     data = {
         "name": rig.name,
         "cameras": [
@@ -327,5 +343,10 @@ def save_rig(rig: Rig, path) -> None:
             for cam in rig.cameras
         ],
     }
+    return json.dumps(data, indent=2) + "\n"
+
+
+def save_rig(rig: Rig, path) -> None:
+    """Write ``rig``'s calibration file (``rig_json``), atomically."""
     with atomic_path(path) as tmp:
-        tmp.write_text(json.dumps(data, indent=2) + "\n")
+        tmp.write_text(rig_json(rig))

@@ -31,6 +31,7 @@ from voxpose.voxels.cameras import Rig
 from voxpose.voxels.carve import Carver, EmptyHullError, vertical_extent
 from voxpose.voxels.render import render_silhouettes
 from voxpose.voxels.sequence import VoxelSequence
+from voxpose.voxels.settings import DEFAULTS
 from voxpose.voxels.surface import basis_indices, surface_mask
 
 log = logging.getLogger(__name__)
@@ -48,9 +49,9 @@ def voxelize_silhouettes(
     frames,
     rig: Rig,
     *,
-    l_res_fraction: float = 1 / 60,
-    min_views: int | None = None,
-    n_basis: int = 200,
+    l_res_fraction: float = DEFAULTS.l_res_fraction,
+    min_views: int | None = DEFAULTS.min_views,
+    n_basis: int = DEFAULTS.n_basis,
     seed: int = 0,
     keep_silhouettes: bool = False,
     progress_every: int = 50,
@@ -139,11 +140,11 @@ def voxelize_motion(
     rig: Rig,
     *,
     proportions=None,
-    l_res_fraction: float = 1 / 60,
-    min_views: int | None = None,
-    n_basis: int = 200,
+    l_res_fraction: float = DEFAULTS.l_res_fraction,
+    min_views: int | None = DEFAULTS.min_views,
+    n_basis: int = DEFAULTS.n_basis,
     seed: int = 0,
-    follow_subject: bool = True,
+    follow_subject: bool = DEFAULTS.follow_subject,
     keep_silhouettes: bool = False,
     progress_every: int = 50,
 ) -> VoxelSequence:

@@ -11,20 +11,17 @@ def claims_test(voxel_set):
     return test[: CLAIMS["robustness_motions"]] if voxel_set in DEGRADED else test
 
 
-TRANSFER_MODELS = {  # method -> (feature model, regressor) trained on the default rig
-    "mppca": (
-        f"results/features/{CLAIMS_EXP}/{RIG}/{DESC}/{MPPCA}/model.h5",
-        run_file(CLAIMS_EXP, MPPCA, "regressor.h5"),
-    ),
-    "at": (
-        f"results/features/{CLAIMS_EXP}/{RIG}/{CTX}/{AT_ALL}/model.h5",
-        run_file(CLAIMS_EXP, AT_ALL, "regressor.h5", desc=CTX),
-    ),
-}
-
-
 def transfer_summary(voxel_set, method="mppca"):
-    return f"results/claims/transfer/{voxel_set}/{method}/summary.json"
+    """Summary of the regressor trained on the claims experiment at the default rig, tested on ``voxel_set``.
+
+    The path names everything the result depends on (test set, experiment, training rig, descriptor and feature
+    tags), so a changed setting writes new files instead of overwriting these, and changing it back finds them.
+    """
+    desc, feat = (DESC, MPPCA) if method == "mppca" else (CTX, AT_ALL)
+    return f"results/claims/transfer/{voxel_set}/{CLAIMS_EXP}/{RIG}/{desc}/{feat}/summary.json"
+
+
+TRANSFER = "results/claims/transfer/{voxel_set}/{exp}/{rig}/{desc}/{feat}"
 
 
 # --- Agarwal & Triggs-style features: 2D shape contexts per view, a K-means soft histogram per view ---
@@ -39,7 +36,7 @@ rule silhouette_contexts:
     params:
         cfg=arg(CLAIMS["contour"]),
         voxels=arg(config["voxels"]),
-        code=code("features.silhouette", "descriptors.contour", "voxels.degrade", "voxels.body", "voxels.render", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("silhouette-contexts"),
     log:
         "results/logs/silhouette_contexts/{rig}/{ctx}/{motion}.log",
     group: "per_motion"  # batched into one cluster job per few motions (profiles/slurm)
@@ -70,7 +67,7 @@ rule fit_silhouette_features:
         cfg=arg(CLAIMS["at"]),
         cameras=at_cameras,
         seed=config["seed"],
-        code=code("features.silhouette", "features.model", "features.kmeans", "features.frame", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("fit-silhouette-features"),
     log:
         "results/logs/fit_silhouette_features/{exp}/{rig}/{desc}/{feat}.log",
     threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
@@ -94,7 +91,7 @@ rule silhouette_features:
         desc=re.escape(CTX),
         feat=f"{re.escape(AT_ONE)}|{re.escape(AT_ALL)}",
     params:
-        code=code("features.silhouette", "features.model", "features.kmeans", "features.frame", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("silhouette-features"),
     log:
         "results/logs/silhouette_features/{exp}/{rig}/{desc}/{feat}.log",
     threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
@@ -120,7 +117,7 @@ rule voxelize_degraded:
         degradation=lambda w: arg(DEGRADED[w.voxel_set]),
         cfg=arg(config["voxels"]),
         seed=config["seed"],
-        code=code("voxels.degrade", "voxels.voxelize", "voxels.body", "voxels.cameras", "voxels.render", "voxels.carve", "voxels.surface", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("voxelize-degraded"),
     log:
         "results/logs/voxelize_degraded/{voxel_set}/{motion}.log",
     group: "per_motion"  # batched into one cluster job per few motions (profiles/slurm)
@@ -138,16 +135,19 @@ rule voxelize_degraded:
 
 rule transfer_features:
     input:
-        model=TRANSFER_MODELS["mppca"][0],
+        model="results/features/{exp}/{rig}/{desc}/{feat}/model.h5",
         descriptors=lambda w: expand(
-            "results/descriptors/{vs}/{desc}/{motion}.h5", vs=w.voxel_set, desc=DESC, motion=claims_test(w.voxel_set)
+            "results/descriptors/{vs}/{desc}/{motion}.h5", vs=w.voxel_set, desc=w.desc, motion=claims_test(w.voxel_set)
         ),
     output:
-        "results/claims/transfer/{voxel_set}/mppca/features.h5",
+        f"{TRANSFER}/features.h5",
+    wildcard_constraints:
+        voxel_set=r"[^/]+",
+        desc=NOT_CONTOURS,
     params:
-        code=code("features.mppca", "features.kmeans", "features.frame", "features.model", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("features"),
     log:
-        "results/logs/transfer_features/{voxel_set}/mppca.log",
+        "results/logs/transfer_features/{voxel_set}/{exp}/{rig}/{desc}/{feat}.log",
     threads: 1
     resources:
         mem_mb=4000,
@@ -158,16 +158,19 @@ rule transfer_features:
 
 rule transfer_silhouette_features:
     input:
-        model=TRANSFER_MODELS["at"][0],
+        model="results/features/{exp}/{rig}/{desc}/{feat}/model.h5",
         contexts=lambda w: expand(
-            "results/claims/contexts/{vs}/{ctx}/{motion}.h5", vs=w.voxel_set, ctx=CTX, motion=claims_test(w.voxel_set)
+            "results/claims/contexts/{vs}/{desc}/{motion}.h5", vs=w.voxel_set, desc=w.desc, motion=claims_test(w.voxel_set)
         ),
     output:
-        "results/claims/transfer/{voxel_set}/at/features.h5",
+        f"{TRANSFER}/features.h5",
+    wildcard_constraints:
+        voxel_set=r"[^/]+",
+        desc=r"sc2d-[^/]+",
     params:
-        code=code("features.silhouette", "features.model", "features.kmeans", "features.frame", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("silhouette-features"),
     log:
-        "results/logs/transfer_features/{voxel_set}/at.log",
+        "results/logs/transfer_features/{voxel_set}/{exp}/{rig}/{desc}/{feat}.log",
     threads: 1
     resources:
         mem_mb=4000,
@@ -178,19 +181,19 @@ rule transfer_silhouette_features:
 
 rule transfer_predict:
     input:
-        features="results/claims/transfer/{voxel_set}/{method}/features.h5",
-        regressor=lambda w: TRANSFER_MODELS[w.method][1],
+        features=f"{TRANSFER}/features.h5",
+        regressor="results/runs/{exp}/{rig}/{desc}/{feat}/regressor.h5",
         motions=lambda w: expand("results/motions/{motion}.h5", motion=claims_test(w.voxel_set)),
     output:
-        "results/claims/transfer/{voxel_set}/{method}/summary.json",
+        f"{TRANSFER}/summary.json",
     wildcard_constraints:
-        method="mppca|at",
+        voxel_set=r"[^/]+",
     params:
         test=lambda w: ",".join(claims_test(w.voxel_set)),
         cfg=arg(config["regression"]),
-        code=code("evaluation.run", "regression.kernels", "regression.pose_encoding", "evaluation.metrics", "motion.pose_kinematics", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("transfer-predict"),
     log:
-        "results/logs/transfer_predict/{voxel_set}/{method}.log",
+        "results/logs/transfer_predict/{voxel_set}/{exp}/{rig}/{desc}/{feat}.log",
     threads: 1
     resources:
         mem_mb=2000,
@@ -207,15 +210,15 @@ def camera_runs():
     """Camera-figure entries: transferred (every rig), retrained (default and claims.retrain), A&T (same count)."""
     n_default = wc.rig_camera_count(config["rig"])
     runs = []
-    for name, section in RIG_SECTIONS.items():
-        n = wc.rig_camera_count(section)
+    for tag, section in RIG_SECTIONS.items():
+        name, n = section["name"], wc.rig_camera_count(section)
         runs.append({"rig": name, "cameras": n, "series": f"trained on {RIG}, not retrained (voxels)",
-                     "summary": transfer_summary(name)})  # fmt: skip
-        if name == RIG or name in CLAIMS["retrain"]:
+                     "summary": transfer_summary(tag)})  # fmt: skip
+        if tag == RIG or name in CLAIMS["retrain"]:
             runs.append({"rig": name, "cameras": n, "series": "retrained on this rig (voxels)",
-                         "summary": f"{run_dir(CLAIMS_EXP, DESC, MPPCA, rig=name)}/summary.json"})  # fmt: skip
+                         "summary": f"{run_dir(CLAIMS_EXP, DESC, MPPCA, rig=tag)}/summary.json"})  # fmt: skip
         runs.append({"rig": name, "cameras": n, "series": f"A&T, {n_default} views concatenated, trained on {RIG}",
-                     "summary": transfer_summary(name, "at") if n == n_default else None})  # fmt: skip
+                     "summary": transfer_summary(tag, "at") if n == n_default else None})  # fmt: skip
     return runs
 
 
@@ -237,7 +240,7 @@ rule camera_figure:
         csv=report("results/tables/camera_rigs.csv", caption="../report/camera_rigs_table.rst", category="Claims"),
     params:
         runs=arg(camera_runs()),
-        code=code("evaluation.claims_figures", "evaluation.figures", "evaluation.tables", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("camera-figure"),
     log:
         "results/logs/camera_figure.log",
     localrule: True
@@ -257,7 +260,7 @@ rule robustness_figure:
         csv=report("results/tables/robustness.csv", caption="../report/robustness_table.rst", category="Claims"),
     params:
         runs=arg(robustness_runs()),
-        code=code("evaluation.claims_figures", "evaluation.figures", "evaluation.tables", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("robustness-figure"),
     log:
         "results/logs/robustness_figure.log",
     localrule: True

@@ -8,12 +8,11 @@ import shlex
 import sys
 from pathlib import Path
 
-import voxpose
-from voxpose.io.bvh import read_duration
-from voxpose.errors import VoxposeError
 from voxpose import workflow_config as wc
-
-VOXPOSE_DIR = Path(voxpose.__file__).parent
+from voxpose.cli.main import SUBCOMMANDS
+from voxpose.errors import VoxposeError
+from voxpose.import_graph import code_hash
+from voxpose.io.bvh import read_duration
 
 
 def _fail(err):
@@ -40,6 +39,10 @@ try:
     }
     CLAIM_RIGS = wc.claims_rigs(config["claims"], config["rig"])
     DEGRADED = wc.degraded_sets(config["claims"], config["rig"]["name"], wc.rig_camera_count(config["rig"]))
+    wc.check_rig_names(
+        {config["rig"]["name"]: ("rig", config["rig"])} | {t: ("claims.rigs", s) for t, s in CLAIM_RIGS.items()},
+        "results/rigs",
+    )
     if config["claims"]["experiment"] not in EXPERIMENTS:
         raise VoxposeError(f"config key claims.experiment: no experiment named {config['claims']['experiment']!r}")
 except VoxposeError as err:
@@ -130,14 +133,17 @@ def by_input(base, per_input_mb=0):
     return lambda wildcards, input, attempt: math.ceil((base + per_input_mb * input.size_mb) * attempt)
 
 
-def code(*modules):
-    """Content hash of voxpose modules a rule uses (Snakemake does not see edits to the package)."""
-    return wc.code_hash([VOXPOSE_DIR / (m.replace(".", "/") + ".py") for m in modules])
+def code(subcommand):
+    """Content hash of the import closure of the module that defines ``voxpose <subcommand>``, the command the
+    rule runs (Snakemake does not see edits to the installed package): editing any module the command reaches,
+    directly or not, reruns the rule and its dependants, and nothing else (voxpose.import_graph)."""
+    return code_hash(SUBCOMMANDS[subcommand].module)
 
 
 def arg(value):
-    """A Python value as one shell-quoted JSON argument."""
-    return shlex.quote(json.dumps(value))
+    """A Python value as one shell-quoted JSON argument, keys sorted: a `--configfile` merge reorders keys, and a
+    reordered string would look like a changed parameter to Snakemake."""
+    return shlex.quote(json.dumps(value, sort_keys=True))
 
 
 def experiment_motions(exp):

@@ -8,7 +8,7 @@ rule describe:
         "results/descriptors/{rig}/{desc}/{motion}.h5",
     params:
         cfg=lambda w: arg(DESCRIPTORS[w.desc]),
-        code=code("descriptors.shape_context", "descriptors.lut", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("describe"),
     log:
         "results/logs/describe/{rig}/{desc}/{motion}.log",
     group: "per_motion"  # batched into one cluster job per few motions (profiles/slurm)

@@ -11,7 +11,7 @@ rule table1:
         csv=report("results/tables/table1.csv", caption="../report/table1.rst", category="Tables"),
         md="results/tables/table1.md",
     params:
-        code=code("evaluation.tables", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("table1"),
     log:
         "results/logs/table1.log",
     localrule: True
@@ -31,7 +31,7 @@ rule table2:
         csv=report("results/tables/table2.csv", caption="../report/table2.rst", category="Tables"),
         md="results/tables/table2.md",
     params:
-        code=code("evaluation.tables", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("table2"),
     log:
         "results/logs/table2.log",
     localrule: True

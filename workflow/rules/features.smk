@@ -13,7 +13,7 @@ rule fit_features:
         method=lambda w: FEATURES[w.feat][0],
         cfg=lambda w: arg(FEATURES[w.feat][1]),
         seed=config["seed"],
-        code=code("features.mppca", "features.kmeans", "features.frame", "features.model", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("fit-features"),
     log:
         "results/logs/fit_features/{exp}/{rig}/{desc}/{feat}.log",
     threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
@@ -34,7 +34,7 @@ rule features:
     wildcard_constraints:
         desc=NOT_CONTOURS,
     params:
-        code=code("features.mppca", "features.kmeans", "features.frame", "features.model", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("features"),
     log:
         "results/logs/features/{exp}/{rig}/{desc}/{feat}.log",
     threads: 1  # BLAS threads do not pay here (common.smk, "Threads")

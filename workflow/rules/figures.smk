@@ -10,7 +10,7 @@ rule figure4:
         csv=report("results/tables/figure4.csv", caption="../report/figure4_table.rst", category="Tables"),
     params:
         runs=arg([[label, value, f"{d}/summary.json"] for label, value, d in figure4_runs()]),
-        code=code("evaluation.figures", "evaluation.tables", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("figure4"),
     log:
         "results/logs/figure4.log",
     localrule: True
@@ -29,7 +29,7 @@ rule gallery:
     output:
         report("results/figures/gallery.png", caption="../report/gallery.rst", category="Figures"),
     params:
-        code=code("evaluation.gallery", "evaluation.figures", "motion.pose_kinematics", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("gallery"),
     log:
         "results/logs/gallery.log",
     threads: 1
@@ -47,7 +47,7 @@ rule joint_errors:
     output:
         report("results/figures/joint_errors.png", caption="../report/joint_errors.rst", category="Figures"),
     params:
-        code=code("evaluation.figures"),
+        code=code("joint-errors"),
     log:
         "results/logs/joint_errors.log",
     localrule: True
@@ -66,7 +66,7 @@ rule error_over_time:
     output:
         report("results/figures/error_over_time.png", caption="../report/error_over_time.rst", category="Figures"),
     params:
-        code=code("evaluation.figures", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("error-over-time"),
     log:
         "results/logs/error_over_time.log",
     localrule: True

@@ -16,7 +16,7 @@ rule export_model:
         regression=arg(config["regression"]),
         seed=config["seed"],
         name=lambda w: f"{w.exp}/{w.rig}/{w.desc}/{w.feat}",
-        code=code("apply.model_file", "motion.output_skeleton", "features.model", "regression.mvrvm", "regression.pose_space", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("export-model"),
     log:
         "results/logs/export_model/{exp}/{rig}/{desc}/{feat}.log",
     threads: 1

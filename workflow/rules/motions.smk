@@ -7,7 +7,7 @@ rule generate_bvh:
     params:
         spec=lambda w: GENERATED[w.motion],
         seed=config["seed"],
-        code=code("motion.generate", "io.bvh"),
+        code=code("generate"),
     log:
         "results/logs/generate_bvh/{motion}.log",
     group: "per_motion"  # batched into one cluster job per few motions (profiles/slurm)
@@ -29,7 +29,7 @@ rule derive_bvh:
         kind=lambda w: DERIVED[w.motion][0],
         cfg=lambda w: arg(DERIVED[w.motion][2]),
         seed=config["seed"],
-        code=code("motion.derive", "io.bvh"),
+        code=code("derive"),
     log:
         "results/logs/derive_bvh/{motion}.log",
     group: "per_motion"  # batched into one cluster job per few motions (profiles/slurm)
@@ -48,7 +48,7 @@ rule motion:
         "results/motions/{motion}.h5",
     params:
         cfg=arg(config["motions"]),
-        code=code("motion.load", "io.bvh", "motion.bvh_kinematics", "motion.joint_map", "motion.canonical_pose", "motion.rotations", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("motion"),
     log:
         "results/logs/motion/{motion}.log",
     group: "per_motion"  # batched into one cluster job per few motions (profiles/slurm)

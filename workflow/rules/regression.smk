@@ -15,7 +15,7 @@ rule regress:
         test=lambda w: ",".join(EXPERIMENTS[w.exp]["test"]),
         cfg=arg(config["regression"]),
         seed=config["seed"],
-        code=code("regression.pose_space", "regression.kernels", "regression.mvrvm", "regression.baselines", "evaluation.metrics", "motion.pose_kinematics", "regression.pose_encoding", "evaluation.run", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("regress"),
     log:
         "results/logs/regress/{exp}/{rig}/{desc}/{feat}.log",
     threads: 1  # the MVRVM's moves are sequential; two experiments fit side by side instead

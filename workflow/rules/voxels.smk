@@ -8,7 +8,7 @@ rule rig:
         "results/rigs/{rig}.json",
     params:
         cfg=lambda w: arg(RIG_SECTIONS[w.rig]),
-        code=code("voxels.cameras"),
+        code=code("rig"),
     log:
         "results/logs/rig/{rig}.log",
     localrule: True
@@ -31,7 +31,7 @@ rule voxelize:
     params:
         cfg=arg(config["voxels"]),
         seed=config["seed"],
-        code=code("voxels.voxelize", "voxels.body", "voxels.cameras", "voxels.render", "voxels.carve", "voxels.surface", "io.hdf5", "io.atomic", "motion.data", "voxels.sequence", "descriptors.file"),
+        code=code("voxelize"),
     log:
         "results/logs/voxelize/{rig}/{motion}.log",
     group: "per_motion"  # batched into one cluster job per few motions (profiles/slurm)

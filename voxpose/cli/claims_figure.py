@@ -1,0 +1,34 @@
+"""``voxpose camera-figure`` and ``voxpose robustness-figure``: the measured claims' figures and tables.
+
+One module for both: they differ only in the table and drawing functions of ``voxpose.evaluation.claims_figures``.
+"""
+
+import json
+
+
+def add_arguments(p):
+    p.add_argument("--runs", required=True, help="JSON list of runs (see voxpose/evaluation/claims_figures.py)")
+    p.add_argument("--png", required=True)
+    p.add_argument("--csv", required=True)
+
+
+def _write(args, which: str) -> None:
+    from voxpose.evaluation import claims_figures, figures
+    from voxpose.io.atomic import atomic_path
+
+    table_of, draw = {
+        "cameras": (claims_figures.camera_table, claims_figures.camera_figure),
+        "robustness": (claims_figures.robustness_table, claims_figures.robustness_figure),
+    }[which]
+    table = table_of(json.loads(args.runs))
+    with atomic_path(args.csv) as tmp:
+        table.to_csv(tmp, index=False)
+    figures.save(draw(table), args.png, "png")
+
+
+def run_cameras(args):
+    _write(args, "cameras")
+
+
+def run_robustness(args):
+    _write(args, "robustness")

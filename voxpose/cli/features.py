@@ -1,0 +1,34 @@
+"""``voxpose features``: descriptors -> one feature vector per frame (Eq. 5, or the K-means histogram)."""
+
+import logging
+
+from voxpose.cli.common import add_output
+
+log = logging.getLogger("voxpose")
+
+NAME = "features"
+HELP = "descriptors -> one feature vector per frame (Eq. 5 or K-means)"
+
+
+def add_arguments(p):
+    p.add_argument("model", help="feature model (HDF5) from `voxpose fit-features`")
+    p.add_argument("descriptors", nargs="+", help="descriptor files (HDF5), one per motion")
+    add_output(p)
+
+
+def run(args):
+    import numpy as np
+
+    from voxpose.descriptors.file import read_descriptors
+    from voxpose.features.model import FeatureModel
+    from voxpose.io.hdf5 import write_per_motion
+
+    model = FeatureModel.load(args.model)
+    motions = {}
+    for path in args.descriptors:
+        frames, _, meta = read_descriptors(path)
+        frame_index = np.repeat(np.arange(len(frames)), [len(d) for d in frames])
+        features, counts = model.transform(np.concatenate(frames), frame_index, len(frames))
+        motions[meta["motion"]] = {"features": features, "counts": counts}
+        log.info("features %s: %d frames, %d gaps", meta["motion"], len(frames), int((counts == 0).sum()))
+    write_per_motion(args.output, "features", motions, {"method": model.method, "model": model.meta})

@@ -1,0 +1,26 @@
+"""``voxpose figure4``: Figure 4 (the cross-validation sweeps of Section 6) from the runs' summaries."""
+
+import json
+
+NAME = "figure4"
+HELP = "Figure 4 from the cross-validation sweep summaries"
+
+
+def add_arguments(p):
+    p.add_argument("--runs", required=True, help="JSON list of [sweep, value, summary.json]")
+    p.add_argument("--png", required=True)
+    p.add_argument("--pdf", required=True)
+    p.add_argument("--csv", required=True)
+
+
+def run(args):
+    from voxpose.evaluation import figures
+    from voxpose.io.atomic import atomic_path
+
+    runs = json.loads(args.runs)
+    table = figures.figure4_table(runs)
+    with atomic_path(args.csv) as tmp:
+        table.to_csv(tmp, index=False)
+    fig = figures.figure4(table)
+    figures.save(fig, args.png, "png")
+    figures.save(fig, args.pdf, "pdf")

@@ -1,0 +1,25 @@
+"""``voxpose fit-silhouette-features``: the Agarwal & Triggs K-means codebook on training 2D shape contexts."""
+
+import json
+
+from voxpose.cli.common import add_output, parse_params
+
+NAME = "fit-silhouette-features"
+HELP = "fit the A&T K-means codebook on training shape contexts"
+
+
+def add_arguments(p):
+    p.add_argument("contexts", nargs="+", help="shape-context files (HDF5) of the training motions")
+    p.add_argument("--params", required=True, help="JSON: the config's `claims.at` section")
+    p.add_argument("--cameras", required=True, help='JSON: "all" or a list of camera indices')
+    p.add_argument("--seed", type=int, default=0)
+    add_output(p)
+
+
+def run(args):
+    from voxpose.descriptors.file import read_contours
+    from voxpose.features.silhouette import fit_codebook
+
+    training = [(c, o, meta["n_cameras"]) for c, o, meta in map(read_contours, args.contexts)]
+    model = fit_codebook(training, json.loads(args.cameras), parse_params(args.params), args.seed)
+    model.save(args.output)

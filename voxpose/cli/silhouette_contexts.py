@@ -1,0 +1,35 @@
+"""``voxpose silhouette-contexts``: a motion -> silhouettes -> 2D shape contexts per view (Agarwal & Triggs)."""
+
+import logging
+
+from voxpose.cli.common import add_output, parse_params
+
+log = logging.getLogger("voxpose")
+
+NAME = "silhouette-contexts"
+HELP = "motion -> silhouettes -> 2D shape contexts per view (HDF5)"
+
+
+def add_arguments(p):
+    p.add_argument("motion", help="motion file (HDF5) from `voxpose motion`")
+    p.add_argument("--rig", required=True, help="rig calibration file (JSON)")
+    p.add_argument("--params", required=True, help="JSON: the config's `claims.contour` section")
+    p.add_argument("--voxel-params", default="{}", help="JSON: the config's `voxels` section (body, placement)")
+    add_output(p)
+
+
+def run(args):
+    from voxpose.descriptors.file import write_contours
+    from voxpose.features.silhouette import render_contexts
+    from voxpose.motion.data import read_motion
+    from voxpose.voxels.cameras import load_rig
+
+    cfg, vcfg = parse_params(args.params), parse_params(args.voxel_params, "--voxel-params")
+    motion, rig = read_motion(args.motion), load_rig(args.rig)
+    contexts, offsets = render_contexts(
+        motion, rig, cfg, proportions=vcfg.get("proportions") or None, follow_subject=vcfg.get("follow_subject", True)
+    )
+    meta = {"motion": motion.name, "kind": motion.kind, "n_frames": motion.n_frames, "n_cameras": len(rig),
+            "rig": rig.name, "params": cfg}  # fmt: skip
+    write_contours(args.output, contexts, offsets, meta)
+    log.info("%s: %d shape contexts in %d images -> %s", motion.name, len(contexts), len(offsets) - 1, args.output)

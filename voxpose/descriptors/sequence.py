@@ -1,0 +1,28 @@
+"""Every frame of a voxel sequence described: 3D shape contexts at its basis voxels over its surface voxels.
+
+One path for the workflow (``voxpose describe``) and for a trained model on new data (``voxpose.apply.predict``).
+A frame whose hull is empty is a gap: it gets no descriptors (a (0, bins) array), never invented ones.
+"""
+
+import numpy as np
+
+from voxpose.descriptors.lut import ShapeContextTable
+from voxpose.descriptors.settings import DescriptorSettings
+from voxpose.voxels.sequence import VoxelSequence
+
+
+def describe_sequence(seq: VoxelSequence, settings: DescriptorSettings, *, threads: int = 1) -> list[np.ndarray]:
+    """(B_f, bins) float64 descriptors of every frame f (Section 4), with the subject height in voxels
+    ``h_sub / l_res`` of the sequence."""
+    table = ShapeContextTable(seq.h_sub / seq.l_res, **settings.as_dict())
+    out = [np.zeros((0, table.n_bins)) for _ in range(seq.n_frames)]
+    carved = np.flatnonzero(~seq.empty)
+
+    def pairs():
+        for f in carved:
+            ijk, surface, basis = seq.frame(f)
+            yield ijk[surface], ijk[basis]
+
+    for f, desc in zip(carved, table.describe_frames(pairs(), threads=threads), strict=True):
+        out[f] = desc
+    return out
