@@ -73,7 +73,36 @@ def test_experiment_resolution():
     exp = wc.resolve_experiment(
         "t", {"train": ["walk_*", "jog_*"], "test": ["spiral_*"], "exclude": ["walk_b"]}, names, "experiments"
     )
-    assert exp == {"train": ["jog_a", "walk_a"], "test": ["spiral_x", "spiral_y"]}
+    assert exp == {"train": ["jog_a", "walk_a"], "test": ["spiral_x", "spiral_y"],
+                   "test_sets": {"test": ["spiral_x", "spiral_y"]}}  # fmt: skip
+
+
+def test_named_test_sets_resolve_each_and_refuse_overlap_naming_the_set():
+    names = ["walk_a", "walk_b", "jog_a", "spiral_x", "spiral_y"]
+    spec = {"train": ["walk_a"], "test": {"spirals": ["spiral_*"], "other": ["jog_a", "walk_b", "spiral_x"]}}
+    exp = wc.resolve_experiment("t", spec, names, "experiments")
+    assert exp["test_sets"] == {"spirals": ["spiral_x", "spiral_y"], "other": ["jog_a", "spiral_x", "walk_b"]}
+    assert exp["test"] == ["spiral_x", "spiral_y", "jog_a", "walk_b"]  # every test motion once, in set order
+    bad = {"train": ["walk_*"], "test": {"spirals": ["spiral_*"], "mixed": ["walk_b"]}}
+    with pytest.raises(VoxposeError, match="config key experiments.t.test.mixed: test motions also in training"):
+        wc.resolve_experiment("t", bad, names, "experiments")
+    with pytest.raises(VoxposeError, match=r"config key experiments.t.test.runs: pattern 'run_\*' matches no"):
+        wc.resolve_experiment("t", {"train": ["walk_a"], "test": {"runs": ["run_*"]}}, names, "experiments")
+
+
+def test_a_motion_set_tag_depends_on_the_motions_only():
+    tag = wc.motion_set_tag(["walk_a", "jog_a"])
+    assert tag == wc.motion_set_tag(["jog_a", "walk_a"]) and tag.startswith("n2-")
+    assert tag != wc.motion_set_tag(["walk_a", "jog_b"]) and tag != wc.motion_set_tag(["walk_a"])
+
+
+def test_named_test_sets_pass_the_schema_and_bad_set_names_do_not():
+    config = yaml.safe_load((ROOT / "config/config.yaml").read_text())
+    config["experiments"]["table2"]["test"] = {"walks": ["walk_*"], "rest": ["jog_*"]}
+    wc.validate_config(config, ROOT / "config/schema.yaml")
+    config["experiments"]["table2"]["test"] = {"a/b": ["walk_*"]}
+    with pytest.raises(VoxposeError, match="config key experiments.table2.test"):
+        wc.validate_config(config, ROOT / "config/schema.yaml")
 
 
 def test_overlapping_experiment_is_refused_naming_the_files():

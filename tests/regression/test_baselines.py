@@ -101,3 +101,17 @@ def test_bad_ridge_and_width_raise():
         KernelRidge(ridge=-1.0).fit(x, y)
     with pytest.raises(VoxposeError, match="kernel width"):
         KernelRidge(kernel_width=0.0, ridge=1.0).fit(x, y)
+
+
+@pytest.mark.parametrize("model", [MeanPose(), NearestNeighbour(block=7), KernelRidge(kernel_width=0.8)])
+def test_a_baseline_restored_from_its_arrays_predicts_exactly_as_the_fitted_one(model):
+    x, y = data()
+    model.fit(x, y)
+    restored = type(model).from_arrays(*model.to_arrays())
+    queries = np.random.default_rng(3).uniform(-1, 1, size=(9, 3))
+    np.testing.assert_array_equal(restored.predict(queries), model.predict(queries))
+
+
+def test_an_unfitted_baseline_has_no_arrays():
+    with pytest.raises(VoxposeError, match="NearestNeighbour: call fit before to_arrays"):
+        NearestNeighbour().to_arrays()

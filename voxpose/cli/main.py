@@ -18,6 +18,8 @@ from voxpose.cli import (
     derive,
     describe,
     error_over_time,
+    evaluate,
+    experiment_table,
     export_model,
     features,
     figure4,
@@ -35,7 +37,6 @@ from voxpose.cli import (
     silhouette_features,
     table1,
     table2,
-    transfer_predict,
     voxelize,
     voxelize_degraded,
 )
@@ -75,8 +76,8 @@ def _of(module) -> tuple[str, Subcommand]:
 
 
 SUBCOMMANDS = dict(
-    map(_of, (generate, derive, motion, rig, voxelize, carve, describe, fit_features, features, regress, table1,
-              table2, figure4, joint_errors, error_over_time, gallery, voxelize_degraded, transfer_predict,
+    map(_of, (generate, derive, motion, rig, voxelize, carve, describe, fit_features, features, regress, evaluate,
+              experiment_table, table1, table2, figure4, joint_errors, error_over_time, gallery, voxelize_degraded,
               silhouette_contexts, fit_silhouette_features, silhouette_features, export_model, predict, render))
 ) | {  # fmt: skip
     "camera-figure": Subcommand("error against camera rig: transferred, retrained, A&T", claims_figure.add_arguments,

@@ -70,9 +70,37 @@ class _Baseline:
     def _output(self, pred: np.ndarray) -> np.ndarray:
         return pred[:, 0] if self._single_output else pred
 
+    # the fitted state as (arrays, meta), and back: ``_STATE`` names the fitted array attributes,
+    # ``_SCALARS`` the fitted scalars, ``_PARAMS`` the constructor's hyper-parameters kept with them
+    _STATE: tuple = ()
+    _SCALARS: tuple = ()
+    _PARAMS: tuple = ()
+
+    def to_arrays(self) -> tuple[dict, dict]:
+        """The fitted state as (arrays, meta), for a baselines file."""
+        if not hasattr(self, "n_features_in_"):
+            raise VoxposeError(f"{type(self).__name__}: call fit before to_arrays")
+        arrays = {name: getattr(self, f"{name}_") for name in self._STATE}
+        meta = {name: float(getattr(self, f"{name}_")) for name in self._SCALARS}
+        meta |= {name: getattr(self, name) for name in self._PARAMS}
+        return arrays, meta | {"n_features_in": int(self.n_features_in_), "single_output": bool(self._single_output)}
+
+    @classmethod
+    def from_arrays(cls, arrays: dict, meta: dict):
+        """A fitted baseline from ``to_arrays``'s (arrays, meta): it predicts exactly as the one saved."""
+        model = cls(**{name: meta[name] for name in cls._PARAMS})
+        for name in cls._STATE:
+            setattr(model, f"{name}_", np.asarray(arrays[name], dtype=np.float64))
+        for name in cls._SCALARS:
+            setattr(model, f"{name}_", float(meta[name]))
+        model.n_features_in_, model._single_output = int(meta["n_features_in"]), bool(meta["single_output"])
+        return model
+
 
 class MeanPose(_Baseline):
     """Predicts the mean training target for every input. Attribute ``mean_`` (P,)."""
+
+    _STATE = ("mean",)
 
     def fit(self, X, Y) -> "MeanPose":
         x, y, self._single_output = _training_pair(X, Y, "MeanPose")
@@ -91,6 +119,9 @@ class NearestNeighbour(_Baseline):
     Attributes ``X_`` (N, d) and ``Y_`` (N, P): the training rows. Distances are computed in blocks of
     ``block`` query rows to bound memory.
     """
+
+    _STATE = ("X", "Y")
+    _PARAMS = ("block",)
 
     def __init__(self, block: int = 1024):
         self.block = block
@@ -132,6 +163,9 @@ class KernelRidge(_Baseline):
     ridge_ : the regulariser used; ``kernel_width_`` the width used; ``validation_`` the ridge table
         (list of ``(ridge, validation RMSE)``) when the ridge was chosen.
     """
+
+    _STATE = ("X", "dual_coef", "intercept")
+    _SCALARS = ("kernel_width", "ridge")
 
     def __init__(
         self,

@@ -48,6 +48,13 @@ try:
 except VoxposeError as err:
     _fail(err)
 
+# Fits are cached by content: an experiment's features and regressor live under the tag of its training motions
+# (wc.motion_set_tag), so experiments with the same training set share them; each test set is evaluated under the
+# tag of its own motions. SETS: tag -> motions; TRAIN: experiment -> training tag; TESTS: experiment -> {set: tag}.
+TRAIN = {exp: wc.motion_set_tag(e["train"]) for exp, e in EXPERIMENTS.items()}
+TESTS = {exp: {s: wc.motion_set_tag(m) for s, m in e["test_sets"].items()} for exp, e in EXPERIMENTS.items()}
+SETS = {wc.motion_set_tag(m): m for e in EXPERIMENTS.values() for m in (e["train"], *e["test_sets"].values())}
+
 RIG = config["rig"]["name"]
 RIG_SECTIONS = {RIG: config["rig"], **CLAIM_RIGS}
 DESC_CFG = config["descriptor"]
@@ -98,6 +105,8 @@ wildcard_constraints:
     desc=r"[^/]+",
     feat=r"[^/]+",
     exp=r"[A-Za-z0-9_]+",
+    train=r"n\d+-[0-9a-f]+",
+    set=r"n\d+-[0-9a-f]+",
 
 
 # Resources (issue 9). Every rule sets threads, mem_mb (MB) and runtime (minutes) with one of the two helpers below,
@@ -146,12 +155,14 @@ def arg(value):
     return shlex.quote(json.dumps(value, sort_keys=True))
 
 
-def experiment_motions(exp):
-    return EXPERIMENTS[exp]["train"] + EXPERIMENTS[exp]["test"]
-
-
 def run_dir(exp, desc, feat, rig=None):
-    return f"results/runs/{exp}/{rig or RIG}/{desc}/{feat}"
+    """Where the regressor of experiment ``exp`` (its training set's tag) lives."""
+    return f"results/runs/{TRAIN[exp]}/{rig or RIG}/{desc}/{feat}"
+
+
+def test_dir(exp, desc, feat, test=None, rig=None):
+    """Where experiment ``exp``'s regressor is evaluated on its test set ``test`` (default: the first one)."""
+    return f"{run_dir(exp, desc, feat, rig)}/sets/{TESTS[exp][test or next(iter(TESTS[exp]))]}"
 
 
 def figure4_runs():
@@ -159,14 +170,15 @@ def figure4_runs():
     f4 = config["figure4"]
     runs = []
     for r in f4["r_max"]:
-        runs.append(("r_max", r, run_dir("figure4", wc.descriptor_tag(dict(DESC_CFG, r_max=r)), MPPCA)))
+        runs.append(("r_max", r, test_dir("figure4", wc.descriptor_tag(dict(DESC_CFG, r_max=r)), MPPCA)))
     for n in f4["n_r"]:
-        runs.append(("n_r", n, run_dir("figure4", wc.descriptor_tag(dict(DESC_CFG, n_r=n)), MPPCA)))
+        runs.append(("n_r", n, test_dir("figure4", wc.descriptor_tag(dict(DESC_CFG, n_r=n)), MPPCA)))
     for ne, na in f4["ne_na"]:
         tag = wc.descriptor_tag(dict(DESC_CFG, n_e=ne, n_a=na))
-        runs.append(("ne_na", f"{ne}x{na}", run_dir("figure4", tag, MPPCA)))
+        runs.append(("ne_na", f"{ne}x{na}", test_dir("figure4", tag, MPPCA)))
     for k in f4["n_components"]:
-        runs.append(("n_components", k, run_dir("figure4", DESC, wc.feature_tag("mppca", dict(FEAT_CFG, n_components=k)))))
+        feat = wc.feature_tag("mppca", dict(FEAT_CFG, n_components=k))
+        runs.append(("n_components", k, test_dir("figure4", DESC, feat)))
     return runs
 
 
@@ -178,20 +190,21 @@ def bvh_path(w):
     return f"results/bvh/generated/{w.motion}.bvh"
 
 
-def train_descriptors(w):
-    return expand(
-        "results/descriptors/{rig}/{desc}/{motion}.h5", rig=w.rig, desc=w.desc, motion=EXPERIMENTS[w.exp]["train"]
+def set_descriptors(tag):
+    """Input function: the descriptor files of the motions of set ``tag`` (a wildcard's name)."""
+    return lambda w: expand(
+        "results/descriptors/{rig}/{desc}/{motion}.h5", rig=w.rig, desc=w.desc, motion=SETS[getattr(w, tag)]
     )
 
 
-def all_descriptors(w):
-    return expand(
-        "results/descriptors/{rig}/{desc}/{motion}.h5", rig=w.rig, desc=w.desc, motion=experiment_motions(w.exp)
-    )
+def set_motions(tag):
+    """Input function: the motion files of the motions of set ``tag`` (a wildcard's name)."""
+    return lambda w: expand("results/motions/{motion}.h5", motion=SETS[getattr(w, tag)])
 
 
-def run_file(exp, feat, name, desc=None):
-    return f"{run_dir(exp, desc or DESC, feat)}/{name}"
+def run_file(exp, feat, name, desc=None, test=None):
+    """A file of experiment ``exp``'s evaluation on test set ``test`` (default: its first)."""
+    return f"{test_dir(exp, desc or DESC, feat, test)}/{name}"
 
 
 def final_targets():
@@ -211,4 +224,5 @@ def final_targets():
         "results/tables/camera_rigs.csv",
         "results/figures/robustness.png",
         "results/tables/robustness.csv",
+        *(f"results/tables/experiments/{exp}.csv" for exp in EXPERIMENTS),
     ]
