@@ -101,7 +101,7 @@ def test_bad_frame_input_raises(mppca_model):
         ((X, np.where(frame_index == 4, 9, frame_index), 6), "outside the 6 frames"),
         ((X, frame_index - 1, 6), "outside the 6 frames"),
         ((X, frame_index, 0), "n_frames"),
-        ((X[:, :4], frame_index, 6), "features per row"),
+        ((X[:, :4], frame_index, 6), "expected 5 columns, got 4"),
         (
             (np.where(np.arange(X.size).reshape(X.shape) == 7, np.nan, X), frame_index, 6),
             "row 1 contains NaN",

@@ -299,7 +299,7 @@ def test_scoring_checks_fit_and_dimension():
         MPPCA(2).score_samples(GOOD)
     model = MPPCA(2, n_latent=1, max_iter=2, random_state=0).fit(GOOD)
     for method in (model.score_samples, model.predict_proba, model.score):
-        with pytest.raises(VoxposeError, match="5 features per row, the model was fitted with 4"):
+        with pytest.raises(VoxposeError, match="MPPCA input: expected 4 columns, got 5"):
             method(np.zeros((3, 5)))
     with pytest.raises(VoxposeError, match="row 1"):
         model.predict_proba(np.array([[0.0, 0, 0, 0], [0, np.nan, 0, 0]]))

@@ -14,14 +14,8 @@ import numpy as np
 import scipy.linalg
 
 from voxpose.errors import VoxposeError
-from voxpose.regression.kernels import (
-    as_rows,
-    check_width,
-    gaussian_kernel,
-    holdout_split,
-    median_pairwise_distance,
-    squared_distances,
-)
+from voxpose.regression.kernels import gaussian_kernel, holdout_split, median_pairwise_distance
+from voxpose.validation import as_rows, positive_number, squared_distances
 
 log = logging.getLogger(__name__)
 
@@ -157,7 +151,7 @@ class KernelRidge(_Baseline):
         if self.kernel_width == "median":
             self.kernel_width_ = median_pairwise_distance(x, random_state=self.random_state)
         else:
-            self.kernel_width_ = check_width(self.kernel_width)
+            self.kernel_width_ = positive_number(self.kernel_width, "kernel width")
         gram = gaussian_kernel(x, x, self.kernel_width_)
         if self.ridge is None:
             fit_rows, val_rows = holdout_split(x.shape[0], self.validation_fraction, groups, self.random_state)

@@ -47,10 +47,10 @@ import numpy as np
 import pandas as pd
 
 from voxpose.errors import VoxposeError
-from voxpose.regression.kernels import check_width, design_matrix, holdout_split, median_pairwise_distance
+from voxpose.regression.kernels import design_matrix, holdout_split, median_pairwise_distance
 from voxpose.regression.mvrvm_alpha import contribution, mode_bounds, newton_ascent, optimal_alpha, series_bound
 from voxpose.regression.mvrvm_posterior import Posterior
-from voxpose.validation import as_rows
+from voxpose.validation import as_rows, integer, positive_number
 
 log = logging.getLogger(__name__)
 
@@ -125,15 +125,13 @@ class MVRVM:
         if self.kernel != "rbf":
             raise VoxposeError(f"MVRVM: unknown kernel {self.kernel!r}; the only kernel is 'rbf'")
         if self.kernel_width != "median":
-            check_width(self.kernel_width)
+            positive_number(self.kernel_width, "MVRVM: kernel width")
         for name in ("max_iter", "beta_update_every"):
-            value = getattr(self, name)
-            if not isinstance(value, int | np.integer) or value < 1:
-                raise VoxposeError(f"MVRVM: {name} must be a positive integer, got {value!r}")
-        for name, top in (("tol", np.inf), ("tol_beta", np.inf), ("beta_max", np.inf), ("alignment_max", 1.0)):
-            value = getattr(self, name)
-            if not (isinstance(value, int | float) and 0 < value <= top and np.isfinite(value)):
-                raise VoxposeError(f"MVRVM: {name} must be a number in (0, {top}], got {value!r}")
+            integer(getattr(self, name), f"MVRVM: {name}")
+        for name in ("tol", "tol_beta", "beta_max", "alignment_max"):
+            positive_number(getattr(self, name), f"MVRVM: {name}")
+        if self.alignment_max > 1:
+            raise VoxposeError(f"MVRVM: alignment_max is a cosine, at most 1, got {self.alignment_max!r}")
 
     def fit(self, X, Y, start=None) -> "MVRVM":
         """Learn the sparse mapping from features ``X`` (N, d) to targets ``Y`` (N, P) or (N,); returns self.
@@ -154,7 +152,7 @@ class MVRVM:
         if self.kernel_width == "median":
             self.kernel_width_ = median_pairwise_distance(x, random_state=self.random_state)
         else:
-            self.kernel_width_ = check_width(self.kernel_width)
+            self.kernel_width_ = positive_number(self.kernel_width, "MVRVM: kernel width")
         phi = design_matrix(x, x, self.kernel_width_, self.bias)
         var = y.var(axis=0)
         scale = np.where(var > 0, var, np.where(np.mean(y * y, axis=0) > 0, np.mean(y * y, axis=0), 1.0))
@@ -401,9 +399,9 @@ def select_kernel_width(
     if widths is None:
         base = median_pairwise_distance(x[fit_rows], random_state=random_state)
         scale_list = [float(s) for s in scales]
-        width_list = [check_width(s * base) for s in scale_list]
+        width_list = [positive_number(s * base, "kernel width selection: width") for s in scale_list]
     else:
-        width_list = [check_width(w) for w in np.atleast_1d(widths)]
+        width_list = [positive_number(w, "kernel width selection: width") for w in np.atleast_1d(widths)]
         scale_list = [float("nan")] * len(width_list)
     if not width_list:
         raise VoxposeError("kernel width selection: no widths to try")
