@@ -1,6 +1,7 @@
 """Input checks shared by every stage, and the squared distances several stages compute: one copy each.
 
-Every check raises a one-line ``VoxposeError`` naming the input at fault (the caller's ``name``).
+Every check raises a one-line ``VoxposeError`` naming the input at fault (the caller's ``name``), or the
+estimator used before ``fit``.
 """
 
 import math
@@ -8,7 +9,7 @@ import numbers
 
 import numpy as np
 
-from voxpose.errors import VoxposeError
+from voxpose.errors import NotFittedError, VoxposeError
 
 _CHECK_ROWS = 4096  # rows checked for NaN at once: large descriptor sets are never copied whole
 
@@ -60,3 +61,9 @@ def squared_distances(a, b) -> np.ndarray:
     a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
     d2 = np.sum(a * a, axis=1)[:, None] + np.sum(b * b, axis=1)[None, :] - 2.0 * (a @ b.T)
     return np.maximum(d2, 0.0, out=d2)
+
+
+def check_fitted(estimator, attribute: str) -> None:
+    """A ``NotFittedError`` naming the estimator's class unless ``fit`` (or ``from_arrays``) set ``attribute``."""
+    if not hasattr(estimator, attribute):
+        raise NotFittedError(f"{type(estimator).__name__} is not fitted: call fit first")

@@ -29,6 +29,7 @@ def test_cap_below_the_number_of_motions_is_refused():
         thin_frames([np.ones(5, bool)] * 12, 10)
 
 
+@pytest.mark.filterwarnings("ignore::voxpose.errors.ConvergenceWarning")  # the budgets are that small on purpose
 def test_width_selection_fits_get_their_own_budget(tmp_path):
     """The candidate fits stop at ``selection_max_iter`` moves; the final fit keeps ``max_iter``."""
     from voxpose.evaluation.run import run

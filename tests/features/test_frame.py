@@ -5,7 +5,7 @@ import pytest
 from scipy.special import logsumexp
 from scipy.stats import multivariate_normal
 
-from voxpose.errors import VoxposeError
+from voxpose.errors import NotFittedError, VoxposeError
 from voxpose.features.frame import SoftVoteRule, kmeans_features, mppca_features
 from voxpose.features.kmeans import KMeans
 from voxpose.features.mppca import MPPCA
@@ -112,7 +112,7 @@ def test_bad_frame_input_raises(mppca_model):
             mppca_features(mppca_model, *args)
         with pytest.raises(VoxposeError, match=message):
             kmeans_features(centres, *args, rule=rule)
-    with pytest.raises(VoxposeError, match="not fitted"):
+    with pytest.raises(NotFittedError, match="MPPCA is not fitted"):
         mppca_features(MPPCA(2), X, frame_index, 6)
     with pytest.raises(VoxposeError, match="only 5"):
         kmeans_features(centres, X, frame_index, 6, rule=SoftVoteRule(6, 1.0))

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from voxpose.errors import VoxposeError
+from voxpose.errors import NotFittedError, VoxposeError
 from voxpose.regression.baselines import KernelRidge, MeanPose, NearestNeighbour, cholesky_solve
 from voxpose.regression.kernels import holdout_split
 
@@ -84,7 +84,7 @@ def test_cholesky_solve_adds_jitter_to_singular_matrices():
 @pytest.mark.parametrize("model", [MeanPose(), NearestNeighbour(), KernelRidge(ridge=0.1)])
 def test_bad_input_raises(model):
     x, y = data()
-    with pytest.raises(VoxposeError, match="call fit"):
+    with pytest.raises(NotFittedError, match=rf"^{type(model).__name__} is not fitted: call fit first$"):
         model.predict(x)
     with pytest.raises(VoxposeError, match="rows"):
         model.fit(x, y[:-1])

@@ -1,11 +1,14 @@
 """MVRVM (Section 3) against independent references: brute-force marginal likelihoods and posteriors,
 a classic single-output RVM (Tipping 2001), planted noise levels, and dense searches over alpha."""
 
+import warnings
+
 import numpy as np
 import pytest
 
 from tests.helpers import mvrvm_log_ml, mvrvm_toy
-from voxpose.errors import VoxposeError
+from voxpose.errors import ConvergenceWarning, NotFittedError, VoxposeError
+from voxpose.io.hdf5 import read_arrays, write_arrays
 from voxpose.regression.kernels import design_matrix, gaussian_kernel, holdout_split, median_pairwise_distance
 from voxpose.regression.mvrvm import MVRVM, select_kernel_width
 
@@ -181,7 +184,8 @@ def test_warm_start_resumes_a_fit_on_permuted_rows(toy_fit):
 
 def test_the_last_basis_function_is_never_removed():
     x, y, _ = mvrvm_toy(n=50, seed=7)
-    one = MVRVM(kernel_width=1.5, max_iter=1).fit(x, y)  # a single move: one basis function
+    with pytest.warns(ConvergenceWarning):
+        one = MVRVM(kernel_width=1.5, max_iter=1).fit(x, y)  # a single move: one basis function
     assert one.alpha_.size == 1
     # on targets without signal the function's optimal alpha is infinite; as the last one it stays, pruned
     model = MVRVM(kernel_width=1.5).fit(x, np.zeros((50, 3)), start=(one, np.arange(50)))
@@ -222,8 +226,56 @@ def test_bad_input_raises(kwargs, x, y, message):
 
 
 def test_predict_checks(toy_fit):
-    with pytest.raises(VoxposeError, match="call fit"):
-        MVRVM().predict(np.zeros((2, 1)))
+    unfitted = MVRVM()
+    for use in (lambda: unfitted.predict(np.zeros((2, 1))), lambda: unfitted.sigma_, unfitted.to_arrays):
+        with pytest.raises(NotFittedError, match=r"^MVRVM is not fitted: call fit first$"):
+            use()
     _, _, _, model = toy_fit
     with pytest.raises(VoxposeError, match="1 columns"):
         model.predict(np.zeros((2, 3)))
+
+
+# --- the estimator's state ----------------------------------------------------------------------------------
+
+
+def test_restored_model_predicts_exactly_like_the_fitted_one(toy_fit, tmp_path):
+    """to_arrays -> an HDF5 file -> from_arrays: the same means, standard deviations and covariances."""
+    x, _, _, model = toy_fit
+    write_arrays(tmp_path / "m.h5", "mvrvm", *model.to_arrays())
+    restored = MVRVM.from_arrays(*read_arrays(tmp_path / "m.h5", "mvrvm"))
+    xt = np.linspace(-12, 12, 97)[:, None]
+    mean, std = model.predict(xt, return_std=True)
+    restored_mean, restored_std = restored.predict(xt, return_std=True)
+    np.testing.assert_allclose(restored_mean, mean, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(restored_std, std, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(restored.sigma_, model.sigma_, rtol=0, atol=1e-12)
+    assert restored.n_iter_ == model.n_iter_ and restored.kernel_width_ == model.kernel_width_
+    np.testing.assert_array_equal(restored.log_marginal_likelihood_, model.log_marginal_likelihood_)
+
+
+def test_restored_single_output_model_keeps_its_shapes():
+    x, y, _ = mvrvm_toy(n=80, seed=3)
+    model = MVRVM(kernel_width=1.5).fit(x, y[:, 0])
+    restored = MVRVM.from_arrays(*model.to_arrays())
+    mean, std = restored.predict(x[:7], return_std=True)
+    assert mean.shape == std.shape == (7,)
+    np.testing.assert_allclose(mean, model.predict(x[:7]), rtol=0, atol=1e-12)
+
+
+def test_model_restored_without_covariance_predicts_means_only(toy_fit):
+    x, _, _, model = toy_fit
+    arrays, meta = model.to_arrays()
+    means_only = MVRVM.from_arrays({k: v for k, v in arrays.items() if not k.startswith("cov_")}, meta)
+    np.testing.assert_allclose(means_only.predict(x), model.predict(x), rtol=0, atol=1e-12)
+    with pytest.raises(VoxposeError, match="without its posterior covariance"):
+        means_only.predict(x, return_std=True)
+
+
+def test_a_fit_stopped_by_max_iter_warns():
+    x, y, _ = mvrvm_toy(n=80, seed=3)
+    with pytest.warns(ConvergenceWarning, match=r"^MVRVM: no convergence in 1 iterations \(tol 0.001\)$"):
+        stopped = MVRVM(kernel_width=1.5, max_iter=1).fit(x, y)
+    assert not stopped.converged_
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ConvergenceWarning)
+        assert MVRVM(kernel_width=1.5).fit(x, y).converged_  # the same data converge given the iterations

@@ -20,7 +20,7 @@ import numpy as np
 
 from voxpose.errors import VoxposeError
 from voxpose.features.kmeans import DEFAULT_CHUNK_SIZE, group_sums, nearest_centres
-from voxpose.validation import as_rows, integer, positive_number, squared_distances
+from voxpose.validation import as_rows, check_fitted, integer, positive_number, squared_distances
 
 log = logging.getLogger(__name__)
 
@@ -86,8 +86,7 @@ def mppca_features(model, descriptors, frame_index, n_frames, *, chunk_size=DEFA
     counts : ndarray of int, shape (n_frames,)
         ``N_sc``, the number of descriptors of each frame (0 marks a gap).
     """
-    if not hasattr(model, "components_"):
-        raise VoxposeError("the MPPCA model is not fitted: call fit() first")
+    check_fitted(model, "components_")
     descriptors = as_rows(descriptors, "descriptors", model.n_features_in_, dtype=None)
     frame_index = _check_frames(frame_index, descriptors.shape[0], n_frames)
     chunk = integer(chunk_size, "chunk_size")

@@ -10,12 +10,13 @@ The helpers :func:`group_sums`, :func:`nearest_centres` and :func:`mean_feature_
 """
 
 import logging
+import warnings
 
 import numpy as np
 import scipy.sparse
 
-from voxpose.errors import VoxposeError
-from voxpose.validation import as_rows, integer, squared_distances
+from voxpose.errors import ConvergenceWarning, VoxposeError
+from voxpose.validation import as_rows, check_fitted, integer, squared_distances
 
 log = logging.getLogger(__name__)
 
@@ -169,6 +170,10 @@ class KMeans:
         self.cluster_centers_ = centres
         self.labels_, sqdist = nearest_centres(X, centres, chunk)
         self.inertia_ = float(sqdist.sum())
+        if not self.converged_:
+            warnings.warn(
+                f"KMeans: no convergence in {self.n_iter_} iterations (tol {self.tol:g})", ConvergenceWarning, 2
+            )
         log.info(
             "k-means: %d clusters, %d iterations (converged: %s), inertia %.6g",
             self.n_clusters,
@@ -178,9 +183,23 @@ class KMeans:
         )
         return self
 
+    def to_arrays(self) -> tuple[dict, dict]:
+        """The fitted centres and fit record as (arrays, meta); ``from_arrays`` inverts it (``labels_``, one per
+        training row, is not kept)."""
+        check_fitted(self, "cluster_centers_")
+        return {"centres": self.cluster_centers_}, {"inertia": self.inertia_, "n_iter": self.n_iter_,
+                                                    "converged": self.converged_}  # fmt: skip
+
+    @classmethod
+    def from_arrays(cls, arrays: dict, meta: dict) -> "KMeans":
+        """The KMeans that ``to_arrays`` recorded, fitted: it predicts as the original did."""
+        model = cls(len(arrays["centres"]))
+        model.cluster_centers_ = arrays["centres"]
+        model.inertia_, model.n_iter_, model.converged_ = meta["inertia"], meta["n_iter"], meta["converged"]
+        return model
+
     def predict(self, X):
         """Nearest-centre index of each row of ``X`` (n, d): shape (n,)."""
-        if not hasattr(self, "cluster_centers_"):
-            raise VoxposeError("KMeans is not fitted yet: call fit() first")
+        check_fitted(self, "cluster_centers_")
         X = as_rows(X, "k-means input", self.cluster_centers_.shape[1], dtype=None)
         return nearest_centres(X, self.cluster_centers_, integer(self.chunk_size, "chunk_size"))[0]

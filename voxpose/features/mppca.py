@@ -15,15 +15,16 @@ cancellation in ``|t|^2 - 2 t.mu + |mu|^2``.
 """
 
 import logging
+import warnings
 from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg
 import scipy.sparse
 
-from voxpose.errors import VoxposeError
+from voxpose.errors import ConvergenceWarning, VoxposeError
 from voxpose.features.kmeans import DEFAULT_CHUNK_SIZE, KMeans, mean_feature_variance
-from voxpose.validation import as_rows, integer
+from voxpose.validation import as_rows, check_fitted, integer
 
 log = logging.getLogger(__name__)
 
@@ -466,6 +467,8 @@ class MPPCA:
         self.converged_ = converged
         self.n_reseeded_ = n_reseeded
         self.n_features_in_ = n_features
+        if not converged and self.max_iter > 0:
+            warnings.warn(f"MPPCA: no convergence in {n_iter} EM iterations (tol {self.tol:g})", ConvergenceWarning, 2)
         log.info(
             "MPPCA: %d EM iterations, converged: %s, %d components re-seeded, mean log-likelihood %.6f",
             n_iter,
@@ -475,10 +478,35 @@ class MPPCA:
         )
         return self
 
+    def to_arrays(self) -> tuple[dict, dict]:
+        """The fitted mixture as (arrays, meta), the feature model's stored form; ``from_arrays`` inverts it."""
+        check_fitted(self, "components_")
+        arrays = {"weights": self.weights_, "means": self.means_, "components": self.components_,
+                  "noise_variance": self.noise_variance_}  # fmt: skip
+        meta = {"log_likelihood": self.log_likelihood_, "n_iter": self.n_iter_, "converged": self.converged_,
+                "n_reseeded": self.n_reseeded_, "noise_variance_floor": self.noise_variance_floor_}  # fmt: skip
+        return arrays, meta
+
+    @classmethod
+    def from_arrays(cls, arrays: dict, meta: dict) -> "MPPCA":
+        """The MPPCA that ``to_arrays`` recorded, fitted: it scores and predicts as the original did.
+
+        ``n_components`` and ``n_latent`` follow from the arrays' shapes; the other hyper-parameters, which
+        only matter to ``fit``, are the defaults.
+        """
+        n_components, n_features, n_latent = np.shape(arrays["components"])
+        model = cls(n_components, n_latent=n_latent)
+        model.weights_, model.means_ = arrays["weights"], arrays["means"]
+        model.components_, model.noise_variance_ = arrays["components"], arrays["noise_variance"]
+        model.noise_variance_floor_ = meta["noise_variance_floor"]
+        model.log_likelihood_, model.n_iter_ = list(meta["log_likelihood"]), meta["n_iter"]
+        model.converged_, model.n_reseeded_ = meta["converged"], meta["n_reseeded"]
+        model.n_features_in_ = n_features
+        return model
+
     def _scoring_setup(self, X):
         """Validate ``X`` against the fitted model; return (X, projection, chunk size)."""
-        if not hasattr(self, "components_"):
-            raise VoxposeError("MPPCA is not fitted yet: call fit() first")
+        check_fitted(self, "components_")
         X = as_rows(X, "MPPCA input", self.n_features_in_, dtype=None)
         params = _Params(self.weights_, self.means_, self.components_, self.noise_variance_)
         return X, _project(params), integer(self.chunk_size, "chunk_size")

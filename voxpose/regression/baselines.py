@@ -15,7 +15,7 @@ import scipy.linalg
 
 from voxpose.errors import VoxposeError
 from voxpose.regression.kernels import gaussian_kernel, holdout_split, median_pairwise_distance
-from voxpose.validation import as_rows, positive_number, squared_distances
+from voxpose.validation import as_rows, check_fitted, positive_number, squared_distances
 
 log = logging.getLogger(__name__)
 
@@ -57,8 +57,7 @@ class _Baseline:
     """Shared prediction plumbing: 1-D targets in, 1-D predictions out."""
 
     def _check_input(self, X) -> np.ndarray:
-        if not hasattr(self, "n_features_in_"):
-            raise VoxposeError(f"{type(self).__name__}: call fit before predict")
+        check_fitted(self, "n_features_in_")
         return as_rows(X, f"{type(self).__name__}: X", self.n_features_in_)
 
     def _output(self, pred: np.ndarray) -> np.ndarray:

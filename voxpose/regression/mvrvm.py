@@ -42,15 +42,16 @@ here.
 """
 
 import logging
+import warnings
 
 import numpy as np
 import pandas as pd
 
-from voxpose.errors import VoxposeError
+from voxpose.errors import ConvergenceWarning, VoxposeError
 from voxpose.regression.kernels import design_matrix, holdout_split, median_pairwise_distance
 from voxpose.regression.mvrvm_alpha import contribution, mode_bounds, newton_ascent, optimal_alpha, series_bound
 from voxpose.regression.mvrvm_posterior import Posterior
-from voxpose.validation import as_rows, integer, positive_number
+from voxpose.validation import as_rows, check_fitted, integer, positive_number
 
 log = logging.getLogger(__name__)
 
@@ -89,7 +90,9 @@ class MVRVM:
     has_bias_ : whether the bias basis function was kept.
     coef_ : (has_bias_ + R, P) posterior mean weights: bias row first when kept, then ``relevance_`` order.
     alpha_ : (has_bias_ + R,) weight precisions, same order.
-    sigma_ : (P, has_bias_ + R, has_bias_ + R) posterior weight covariance per output.
+    sigma_ : (P, has_bias_ + R, has_bias_ + R) posterior weight covariance per output,
+        ``Sigma_p = cov_factor_ diag(cov_scale_[:, p]) cov_factor_'``.
+    cov_factor_, cov_scale_ : (has_bias_ + R, has_bias_ + R) and (has_bias_ + R, P), that factorisation.
     beta_ : (P,) noise precisions; ``1 / sqrt(beta_)`` is the noise standard deviation per output.
     kernel_width_ : the width used.
     log_marginal_likelihood_ : (n_iter_ + 1,) log marginal likelihood, initially and after each iteration.
@@ -198,7 +201,7 @@ class MVRVM:
             if self.converged_:
                 break
         if not self.converged_:
-            log.warning("MVRVM: no convergence in %d iterations (tol %g)", self.max_iter, self.tol)
+            warnings.warn(f"MVRVM: no convergence in {it} iterations (tol {self.tol:g})", ConvergenceWarning, 2)
         post.refresh(update_beta=False, beta_cap=cap)  # fold the rank-one terms into the final posterior
         self.n_iter_ = it
         self.log_marginal_likelihood_ = np.array(trace)
@@ -331,21 +334,64 @@ class MVRVM:
         self.coef_ = post.mu[:, : basis.size][:, order].T.copy()
         self.alpha_ = post.alpha[basis]
         self.beta_ = post.beta.copy()
-        # Sigma_p = factor diag(scale[:, p]) factor'
-        self._cov_factor = post.w[order]
-        self._cov_scale = post.c
+        self.cov_factor_ = post.w[order]
+        self.cov_scale_ = post.c
+
+    def to_arrays(self) -> tuple[dict, dict]:
+        """The fitted model as (arrays, meta); ``from_arrays`` inverts it.
+
+        ``coef`` is (K,) after a fit on 1-D targets, so that the restored model predicts the same shapes;
+        ``cov_factor`` and ``cov_scale`` (when the model has them) serve ``predict(return_std=True)``.
+        """
+        check_fitted(self, "coef_")
+        arrays = {"relevance": self.relevance_, "relevance_vectors": self.relevance_vectors_,
+                  "coef": self.coef_[:, 0] if self._single_output else self.coef_, "alpha": self.alpha_,
+                  "beta": self.beta_}  # fmt: skip
+        if hasattr(self, "cov_factor_"):
+            arrays |= {"cov_factor": self.cov_factor_, "cov_scale": self.cov_scale_}
+        meta = {"kernel_width": self.kernel_width_, "has_bias": self.has_bias_,
+                "log_marginal_likelihood": list(map(float, self.log_marginal_likelihood_))}  # fmt: skip
+        return arrays, meta
+
+    @classmethod
+    def from_arrays(cls, arrays: dict, meta: dict) -> "MVRVM":
+        """The MVRVM that ``to_arrays`` recorded, fitted: it predicts as the original did.
+
+        Without ``cov_factor`` and ``cov_scale`` (a regressor file keeps the posterior mean only,
+        ``voxpose.regression.stored``) it predicts means, and ``return_std`` or ``sigma_`` raise.
+        ``converged_`` is not recorded; ``n_iter_`` follows from the likelihood trace.
+        """
+        model = cls(kernel_width=float(meta["kernel_width"]))
+        coef = np.asarray(arrays["coef"])
+        model._single_output = coef.ndim == 1
+        model.coef_ = coef[:, None] if model._single_output else coef
+        model.relevance_, model.relevance_vectors_ = arrays["relevance"], arrays["relevance_vectors"]
+        model.alpha_, model.beta_ = arrays["alpha"], arrays["beta"]
+        model.kernel_width_, model.has_bias_ = float(meta["kernel_width"]), bool(meta["has_bias"])
+        model.log_marginal_likelihood_ = np.asarray(meta["log_marginal_likelihood"], dtype=np.float64)
+        model.n_iter_ = len(model.log_marginal_likelihood_) - 1
+        if "cov_factor" in arrays:
+            model.cov_factor_, model.cov_scale_ = arrays["cov_factor"], arrays["cov_scale"]
+        return model
+
+    def _covariance(self) -> tuple[np.ndarray, np.ndarray]:
+        """``cov_factor_`` and ``cov_scale_``, or an error saying why they are missing."""
+        check_fitted(self, "coef_")
+        if not hasattr(self, "cov_factor_"):
+            raise VoxposeError(
+                "MVRVM: restored without its posterior covariance (regressor files keep the mean only): "
+                "no return_std or sigma_"
+            )
+        return self.cov_factor_, self.cov_scale_
 
     @property
     def sigma_(self) -> np.ndarray:
         """(P, K, K) posterior weight covariance per output, rows in ``coef_`` order."""
-        if not hasattr(self, "coef_"):
-            raise VoxposeError("MVRVM: call fit before reading sigma_")
-        f = self._cov_factor
-        return np.stack([(f * c) @ f.T for c in self._cov_scale.T])
+        factor, scale = self._covariance()
+        return np.stack([(factor * c) @ factor.T for c in scale.T])
 
     def _basis(self, X) -> np.ndarray:
-        if not hasattr(self, "coef_"):
-            raise VoxposeError("MVRVM: call fit before predict")
+        check_fitted(self, "coef_")
         x = as_rows(X, "MVRVM: X", self.relevance_vectors_.shape[1])
         return design_matrix(x, self.relevance_vectors_, self.kernel_width_, self.has_bias_)
 
@@ -359,8 +405,9 @@ class MVRVM:
         mean = phi @ self.coef_
         if not return_std:
             return mean[:, 0] if self._single_output else mean
-        proj = phi @ self._cov_factor
-        std = np.sqrt(1.0 / self.beta_ + (proj * proj) @ self._cov_scale)
+        factor, scale = self._covariance()
+        proj = phi @ factor
+        std = np.sqrt(1.0 / self.beta_ + (proj * proj) @ scale)
         return (mean[:, 0], std[:, 0]) if self._single_output else (mean, std)
 
 
