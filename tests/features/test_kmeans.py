@@ -135,3 +135,9 @@ def test_a_fit_stopped_by_max_iter_warns():
     with warnings.catch_warnings():
         warnings.simplefilter("error", ConvergenceWarning)
         assert KMeans(5, random_state=1).fit(X).n_iter_ > 1  # the same data need more than one iteration
+
+
+def test_constructor_is_keyword_only_after_n_clusters():
+    assert KMeans(3).n_clusters == 3
+    with pytest.raises(TypeError):
+        KMeans(3, 50)

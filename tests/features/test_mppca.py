@@ -333,3 +333,9 @@ def test_a_fit_stopped_by_max_iter_warns():
         warnings.simplefilter("error", ConvergenceWarning)
         assert MPPCA(3, n_latent=2, random_state=0).fit(X).converged_  # the same data converge given the steps
         MPPCA(3, n_latent=2, max_iter=0, random_state=0).fit(X)  # no EM asked for: nothing to warn about
+
+
+def test_constructor_is_keyword_only_after_n_components():
+    assert MPPCA(3).n_components == 3
+    with pytest.raises(TypeError):
+        MPPCA(3, 2)

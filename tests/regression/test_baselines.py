@@ -101,3 +101,9 @@ def test_bad_ridge_and_width_raise():
         KernelRidge(ridge=-1.0).fit(x, y)
     with pytest.raises(VoxposeError, match="kernel width"):
         KernelRidge(kernel_width=0.0, ridge=1.0).fit(x, y)
+
+
+def test_kernel_ridge_constructor_is_keyword_only_after_the_kernel_width():
+    assert KernelRidge(0.5).kernel_width == 0.5
+    with pytest.raises(TypeError):
+        KernelRidge(0.5, 0.1)

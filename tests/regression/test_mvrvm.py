@@ -279,3 +279,10 @@ def test_a_fit_stopped_by_max_iter_warns():
     with warnings.catch_warnings():
         warnings.simplefilter("error", ConvergenceWarning)
         assert MVRVM(kernel_width=1.5).fit(x, y).converged_  # the same data converge given the iterations
+
+
+def test_constructor_is_keyword_only_after_the_kernel_width():
+    x, y, _ = mvrvm_toy(n=40, seed=1)
+    assert MVRVM(1.5).fit(x, y).kernel_width_ == 1.5
+    with pytest.raises(TypeError):
+        MVRVM(1.5, "rbf")

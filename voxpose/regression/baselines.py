@@ -129,6 +129,7 @@ class KernelRidge(_Baseline):
     def __init__(
         self,
         kernel_width="median",
+        *,
         ridge=None,
         ridges=(1e-4, 1e-3, 1e-2, 1e-1, 1.0, 10.0),
         validation_fraction: float = 0.2,

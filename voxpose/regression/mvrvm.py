@@ -68,9 +68,9 @@ class MVRVM:
 
     Parameters
     ----------
-    kernel : ``"rbf"``, the Gaussian kernel of ``voxpose.regression.kernels`` (the only kernel the paper uses).
     kernel_width : width ``w`` of ``exp(-||x - x'||^2 / (2 w^2))``, or ``"median"``: the median pairwise
         distance of the training rows.
+    kernel : ``"rbf"``, the Gaussian kernel of ``voxpose.regression.kernels`` (the only kernel the paper uses).
     bias : include the constant basis function of Eq. 3.
     max_iter : maximum number of iterations (one move or noise update each).
     tol : termination threshold on the change of ``log alpha`` of the best re-estimate (SparseBayes's
@@ -102,8 +102,9 @@ class MVRVM:
 
     def __init__(
         self,
-        kernel: str = "rbf",
         kernel_width="median",
+        *,
+        kernel: str = "rbf",
         bias: bool = True,
         max_iter: int = 10000,
         tol: float = 1e-3,
@@ -361,7 +362,7 @@ class MVRVM:
         ``voxpose.regression.stored``) it predicts means, and ``return_std`` or ``sigma_`` raise.
         ``converged_`` is not recorded; ``n_iter_`` follows from the likelihood trace.
         """
-        model = cls(kernel_width=float(meta["kernel_width"]))
+        model = cls(float(meta["kernel_width"]))
         coef = np.asarray(arrays["coef"])
         model._single_output = coef.ndim == 1
         model.coef_ = coef[:, None] if model._single_output else coef
@@ -420,7 +421,7 @@ def select_kernel_width(
     validation_fraction: float = 0.2,
     random_state=None,
     **params,
-) -> tuple[float, pd.DataFrame]:
+) -> tuple[float, pd.DataFrame, tuple[MVRVM, np.ndarray]]:
     """Choose the MVRVM kernel width on held-out *training* rows (the caller passes training data only).
 
     Rule: hold out rows with ``voxpose.regression.kernels.holdout_split`` (whole ``groups``, e.g. motions, when
