@@ -27,3 +27,6 @@ def test_regressor_file_layout_and_read_back(tmp_path):
     np.testing.assert_array_equal(pca_back.inverse_transform(mvrvm_back.predict(x)), expected)
     with pytest.raises(VoxposeError, match="without its posterior covariance"):
         mvrvm_back.predict(x, return_std=True)
+    # the likelihood trace is a record of the fit, not needed to predict: files without it still read
+    _, without_trace = regressor_from_arrays(arrays, {k: meta[k] for k in ("kernel_width", "has_bias")})
+    np.testing.assert_array_equal(without_trace.predict(x), mvrvm.predict(x))

@@ -360,7 +360,8 @@ class MVRVM:
 
         Without ``cov_factor`` and ``cov_scale`` (a regressor file keeps the posterior mean only,
         ``voxpose.regression.stored``) it predicts means, and ``return_std`` or ``sigma_`` raise.
-        ``converged_`` is not recorded; ``n_iter_`` follows from the likelihood trace.
+        Of the fit record only the likelihood trace is kept (empty when ``meta`` lacks it), not ``n_iter_``
+        or ``converged_``.
         """
         model = cls(float(meta["kernel_width"]))
         coef = np.asarray(arrays["coef"])
@@ -369,8 +370,7 @@ class MVRVM:
         model.relevance_, model.relevance_vectors_ = arrays["relevance"], arrays["relevance_vectors"]
         model.alpha_, model.beta_ = arrays["alpha"], arrays["beta"]
         model.kernel_width_, model.has_bias_ = float(meta["kernel_width"]), bool(meta["has_bias"])
-        model.log_marginal_likelihood_ = np.asarray(meta["log_marginal_likelihood"], dtype=np.float64)
-        model.n_iter_ = len(model.log_marginal_likelihood_) - 1
+        model.log_marginal_likelihood_ = np.asarray(meta.get("log_marginal_likelihood", []), dtype=np.float64)
         if "cov_factor" in arrays:
             model.cov_factor_, model.cov_scale_ = arrays["cov_factor"], arrays["cov_scale"]
         return model
