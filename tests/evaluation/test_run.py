@@ -54,6 +54,7 @@ CFG = {"pca_variance": 0.9, "heading": "vector", "kernel_width": "auto", "width_
        "max_iter": 40, "selection_max_iter": 3, "tol": 1e-3}  # fmt: skip
 
 
+@pytest.mark.filterwarnings("ignore::voxpose.errors.ConvergenceWarning")  # the budgets are that small on purpose
 def test_width_selection_fits_get_their_own_budget(tmp_path):
     """The candidate fits stop at ``selection_max_iter`` moves; the final fit keeps ``max_iter``."""
     from voxpose.evaluation.run import fit
@@ -67,6 +68,7 @@ def test_width_selection_fits_get_their_own_budget(tmp_path):
     assert all(row["n_iter"] > 3 for row in summary["width_selection"])  # null: the candidates get max_iter too
 
 
+@pytest.mark.filterwarnings("ignore::voxpose.errors.ConvergenceWarning")
 def test_a_saved_fit_tests_exactly_as_the_fitted_one(tmp_path):
     """One fit serves every test set: saved and loaded, it gives the same predictions and errors, every method."""
     from voxpose.evaluation.run import Fit, fit

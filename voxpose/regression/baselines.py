@@ -14,14 +14,8 @@ import numpy as np
 import scipy.linalg
 
 from voxpose.errors import VoxposeError
-from voxpose.regression.kernels import (
-    as_rows,
-    check_width,
-    gaussian_kernel,
-    holdout_split,
-    median_pairwise_distance,
-    squared_distances,
-)
+from voxpose.regression.kernels import gaussian_kernel, holdout_split, median_pairwise_distance
+from voxpose.validation import as_rows, check_fitted, positive_number, squared_distances
 
 log = logging.getLogger(__name__)
 
@@ -63,8 +57,7 @@ class _Baseline:
     """Shared prediction plumbing: 1-D targets in, 1-D predictions out."""
 
     def _check_input(self, X) -> np.ndarray:
-        if not hasattr(self, "n_features_in_"):
-            raise VoxposeError(f"{type(self).__name__}: call fit before predict")
+        check_fitted(self, "n_features_in_")
         return as_rows(X, f"{type(self).__name__}: X", self.n_features_in_)
 
     def _output(self, pred: np.ndarray) -> np.ndarray:
@@ -78,8 +71,7 @@ class _Baseline:
 
     def to_arrays(self) -> tuple[dict, dict]:
         """The fitted state as (arrays, meta), for a baselines file."""
-        if not hasattr(self, "n_features_in_"):
-            raise VoxposeError(f"{type(self).__name__}: call fit before to_arrays")
+        check_fitted(self, "n_features_in_")
         arrays = {name: getattr(self, f"{name}_") for name in self._STATE}
         meta = {name: float(getattr(self, f"{name}_")) for name in self._SCALARS}
         meta |= {name: getattr(self, name) for name in self._PARAMS}
@@ -170,6 +162,7 @@ class KernelRidge(_Baseline):
     def __init__(
         self,
         kernel_width="median",
+        *,
         ridge=None,
         ridges=(1e-4, 1e-3, 1e-2, 1e-1, 1.0, 10.0),
         validation_fraction: float = 0.2,
@@ -191,7 +184,7 @@ class KernelRidge(_Baseline):
         if self.kernel_width == "median":
             self.kernel_width_ = median_pairwise_distance(x, random_state=self.random_state)
         else:
-            self.kernel_width_ = check_width(self.kernel_width)
+            self.kernel_width_ = positive_number(self.kernel_width, "kernel width")
         gram = gaussian_kernel(x, x, self.kernel_width_)
         if self.ridge is None:
             fit_rows, val_rows = holdout_split(x.shape[0], self.validation_fraction, groups, self.random_state)
