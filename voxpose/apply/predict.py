@@ -106,8 +106,7 @@ def describe(model: PoseModel, seq: VoxelSequence) -> list:
 
 def featurise(model: PoseModel, descriptors: list) -> tuple[np.ndarray, np.ndarray]:
     """(features (F, K) with NaN rows at gaps, counts (F,)) by the model's feature transformation (Eq. 5)."""
-    frame_index = np.repeat(np.arange(len(descriptors)), [len(d) for d in descriptors])
-    return model.features.transform(np.concatenate(descriptors), frame_index, len(descriptors))
+    return model.features.transform_frames(descriptors)
 
 
 def regress(model: PoseModel, features: np.ndarray, valid: np.ndarray) -> np.ndarray:

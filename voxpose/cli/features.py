@@ -17,8 +17,6 @@ def add_arguments(p):
 
 
 def run(args):
-    import numpy as np
-
     from voxpose.descriptors.file import read_descriptors
     from voxpose.features.model import FeatureModel
     from voxpose.io.hdf5 import write_per_motion
@@ -27,8 +25,7 @@ def run(args):
     motions = {}
     for path in args.descriptors:
         frames, _, meta = read_descriptors(path)
-        frame_index = np.repeat(np.arange(len(frames)), [len(d) for d in frames])
-        features, counts = model.transform(np.concatenate(frames), frame_index, len(frames))
+        features, counts = model.transform_frames(frames)
         motions[meta["motion"]] = {"features": features, "counts": counts}
         log.info("features %s: %d frames, %d gaps", meta["motion"], len(frames), int((counts == 0).sum()))
     write_per_motion(args.output, "features", motions, {"method": model.method, "model": model.meta})

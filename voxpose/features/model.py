@@ -72,6 +72,11 @@ class FeatureModel:
             return mppca_features(self.estimator, descriptors, frame_index, n_frames)
         return kmeans_features(self.estimator.cluster_centers_, descriptors, frame_index, n_frames, rule=self.rule)
 
+    def transform_frames(self, descriptors: list) -> tuple[np.ndarray, np.ndarray]:
+        """``transform`` of a list with each frame's (B_f, bins) descriptors (empty for gaps)."""
+        frame_index = np.repeat(np.arange(len(descriptors)), [len(d) for d in descriptors])
+        return self.transform(np.concatenate(descriptors), frame_index, len(descriptors))
+
     def to_arrays(self) -> tuple[dict, dict]:
         """(arrays, meta) that ``from_arrays`` turns back into this model (the model file's contents): the
         estimator's arrays, and ``meta`` (the estimator's fit record among it) with the soft-vote rule."""
