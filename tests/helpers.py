@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from voxpose.io.bvh import Bvh, BvhJoint, joint_columns, rotation_order
+from voxpose.io.bvh import POSITION_CHANNELS, Bvh, BvhJoint, joint_columns, rotation_order
 from voxpose.motion import canon
 from voxpose.motion.bvh_kinematics import local_transforms
 from voxpose.motion.data import MotionData
@@ -116,15 +116,18 @@ def set_rotation(bvh: Bvh, name: str, zxy) -> None:
     bvh.motion[:, rot] = zxy
 
 
-def random_motion(style: str = "generated", n_frames: int = 40, seed: int = 0, rigid_trunk: bool = False) -> Bvh:
-    """Smooth random motion of the hand-made skeleton: each rotation channel a seeded sum of sinusoids.
+def random_motion(
+    style: str = "generated", n_frames: int = 40, seed: int = 0, rigid_trunk: bool = False, fps: float = 30.0
+) -> Bvh:
+    """Smooth random motion of the hand-made skeleton at ``fps``: each rotation channel a seeded sum of sinusoids.
 
     ``rigid_trunk`` keeps the spine, neck, head and clavicles still, so the pelvis and neck frames are
     rigidly attached to each other (canonical forward kinematics is then exact).
     """
     rng = np.random.default_rng(seed)
     bvh = tpose_bvh(style, n_frames)
-    t = np.arange(n_frames) / 30.0
+    bvh.frame_time = 1.0 / fps
+    t = np.arange(n_frames) / fps
     amplitude = rng.uniform(10.0, 40.0, size=(3, bvh.motion.shape[1]))
     freq = rng.uniform(0.3, 1.5, size=(3, bvh.motion.shape[1]))
     phase = rng.uniform(0, 2 * np.pi, size=(3, bvh.motion.shape[1]))
@@ -159,6 +162,41 @@ def rebase_frames(bvh: Bvh, frames: dict) -> Bvh:
         site = None if joint.end_site is None else turn[j].T @ joint.end_site
         joints.append(BvhJoint(joint.name, joint.parent, parent_turn.T @ joint.offset, joint.channels, site))
     return Bvh(joints=joints, frame_time=bvh.frame_time, motion=motion)
+
+
+def reorder_channels(bvh: Bvh, seed: int) -> Bvh:
+    """The same motion with every joint's channels in a new order (root's order unlike the others')."""
+    rng = np.random.default_rng(seed)
+    _, local = local_transforms(bvh)
+    orders = ["XYZ", "XZY", "YXZ", "YZX", "ZXY", "ZYX"]
+    joints, blocks = [], []
+    for j, joint in enumerate(bvh.joints):
+        pos, _ = joint_columns(bvh, j)
+        order = "YZX" if j == 0 else orders[rng.integers(6)]
+        values = {f"{a}rotation": v for a, v in zip(order, matrix_to_euler(local[:, j], order).T, strict=True)}
+        names = [f"{a}rotation" for a in order]
+        if pos is not None:
+            values |= {c: bvh.motion[:, col] for c, col in zip(POSITION_CHANNELS, pos, strict=True)}
+            moved = [POSITION_CHANNELS[i] for i in rng.permutation(3)]
+            names = names + moved if rng.random() < 0.5 else moved + names
+        blocks.append(np.stack([values[c] for c in names], axis=1))
+        joints.append(BvhJoint(joint.name, joint.parent, joint.offset, tuple(names), joint.end_site))
+    return Bvh(joints, bvh.frame_time, np.concatenate(blocks, axis=1))
+
+
+def renamed(bvh: Bvh, names: dict, drop_sites=()) -> Bvh:
+    """``bvh`` with joints renamed by ``names`` (old -> new) and the End Sites of ``drop_sites`` removed."""
+    joints = [
+        BvhJoint(
+            names.get(j.name, j.name),
+            j.parent,
+            j.offset,
+            j.channels,
+            None if j.name in drop_sites else j.end_site,
+        )
+        for j in bvh.joints
+    ]
+    return Bvh(joints, bvh.frame_time, bvh.motion)
 
 
 # T-pose offsets of a 1.75 m subject, each in its parent's canonical frame (metres)

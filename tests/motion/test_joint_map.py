@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from tests.helpers import random_motion, rebase_frames, set_rotation, tpose_bvh
+from tests.helpers import random_motion, rebase_frames, renamed, set_rotation, tpose_bvh
 from voxpose.errors import VoxposeError
 from voxpose.io.bvh import Bvh, BvhJoint
 from voxpose.motion import canon
@@ -12,20 +12,6 @@ from voxpose.motion.joint_map import PRESETS, resolve_joint_map, skeleton_points
 from voxpose.motion.rotations import axis_rotation
 
 GENERATED = dict(zip(canon.JOINTS, PRESETS[1].joints, strict=True))
-
-
-def renamed(bvh: Bvh, names: dict, drop_sites=()) -> Bvh:
-    joints = [
-        BvhJoint(
-            names.get(j.name, j.name),
-            j.parent,
-            j.offset,
-            j.channels,
-            None if j.name in drop_sites else j.end_site,
-        )
-        for j in bvh.joints
-    ]
-    return Bvh(joints, bvh.frame_time, bvh.motion)
 
 
 def bandai_names(bvh: Bvh) -> Bvh:
@@ -48,11 +34,11 @@ def bandai_names(bvh: Bvh) -> Bvh:
 def test_presets_detected_from_names():
     assert resolve_joint_map(tpose_bvh("generated")).preset == "generated"
     cmu = resolve_joint_map(tpose_bvh("cmu"))
-    assert cmu.preset == "cmu" and cmu.reference_frame
+    assert cmu.preset == "cmu"
     assert dict(zip(canon.JOINTS, cmu.joints, strict=True))["neck"] == "Neck"
     assert cmu.ends == ("Head", "LeftHandIndex1", "RightHandIndex1", "LeftToeBase", "RightToeBase")
     bandai = resolve_joint_map(bandai_names(tpose_bvh()))
-    assert bandai.preset == "bandai" and not bandai.reference_frame
+    assert bandai.preset == "bandai"
     assert bandai.joints[canon.INDEX["rknee"]] == "LowerLeg_R" and bandai.ends[4] == "Toes_R"
 
 

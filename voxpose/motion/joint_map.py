@@ -8,7 +8,7 @@ Built-in presets, detected from the joint names (a preset fits when every joint 
   neck of the Bandai and generated skeletons (base of the neck) and keeps the head segment
   (neck -> head top) the whole head and neck, as the body model draws it. Ends: ``Head``'s End Site,
   the index finger's End Site (``LeftHandIndex1``; about the knuckles), ``LeftToeBase``'s End Site.
-  The files start with a reference-pose frame (see ``motion_loader``).
+  The files start with a reference-pose frame (``voxpose.motion.reference_pose``).
 * ``generated``: the skeleton of ``voxpose.motion.generate`` (CMU-like names, ``LeftToe``, End Sites
   on ``Head``, the hands and the toes).
 * ``bandai``: the Bandai Namco Research Motion Dataset (22 joints); the root is ``Hips`` (the static top
@@ -76,23 +76,20 @@ class JointMap:
     preset : ``"cmu"``, ``"generated"``, ``"bandai"`` or ``"config"``.
     joints : 14 source joint names in ``motion.canon.JOINTS`` order.
     ends : 5 source joint names (or None: estimated from the anchor) in ``motion.canon.ENDS`` order.
-    reference_frame : whether files of this kind start with reference-pose frames to drop.
     """
 
     preset: str
     joints: tuple[str, ...]
     ends: tuple[str | None, ...]
-    reference_frame: bool = False
 
 
-def _preset(name: str, central: dict, left: dict, right_of, reference_frame: bool = False) -> JointMap:
+def _preset(name: str, central: dict, left: dict, right_of) -> JointMap:
     """A preset from its central names, its left-side names (keys ``l...``) and the left -> right rename."""
     names = {**central, **left, **{"r" + key[1:]: right_of(n) for key, n in left.items()}}
     return JointMap(
         preset=name,
         joints=tuple(names[j] for j in canon.JOINTS),
         ends=tuple(names[e] for e in canon.ENDS),
-        reference_frame=reference_frame,
     )
 
 
@@ -110,7 +107,6 @@ PRESETS = (
         {"root": "Hips", "neck": "Neck", "head_top": "Head"},
         {**_CMU_LEFT, "lhand_tip": "LeftHandIndex1", "ltoe": "LeftToeBase"},
         lambda n: n.replace("Left", "Right"),
-        reference_frame=True,
     ),
     _preset(
         "generated",
