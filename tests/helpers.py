@@ -19,6 +19,7 @@ from voxpose.voxels.body import Ellipsoids
 ROOT = Path(__file__).resolve().parents[1]
 
 SHARED_BVH = Path(__file__).resolve().parents[1].parent / "shared/data/bvh"
+SHARED_LIBRARY = SHARED_BVH.with_name("bvh-library")  # gestures, fights, ..., and the ReActIdle family
 
 
 ROOT_CHANNELS = ("Xposition", "Yposition", "Zposition", "Zrotation", "Xrotation", "Yrotation")

@@ -40,6 +40,13 @@ def test_shipped_configs_are_valid(name, config):
         (("rig", "n_cameras"), 1, "rig.n_cameras"),
         (("figure4", "n_r"), [4, 0], "figure4.n_r.1"),
         (("regression", "pca_variance"), 1.5, "regression.pca_variance"),
+        (("motions", "overrides"), [{"files": ["lab_*"], "jointmap": {}}], "motions.overrides.0"),  # misspelt
+        (("motions", "overrides"), [{"unit_scale": 0.01}], "motions.overrides.0"),  # no files
+        (("motions", "overrides"), [{"files": ["lab_*"]}], "motions.overrides.0"),  # changes nothing
+        (("motions", "overrides"), [{"files": "lab_*", "fps": 24}], "motions.overrides.0.files"),
+        (("motions", "overrides"), [{"files": ["a"], "drop_reference_frame": "yes"}],
+         "motions.overrides.0.drop_reference_frame"),  # fmt: skip
+        (("motions", "joint_map"), {"root": "pelvis"}, "motions.joint_map"),  # the 14 joints are required
     ],
 )
 def test_out_of_schema_value_names_the_key(config, path, value, key):
@@ -55,6 +62,32 @@ def test_unknown_key_is_refused(config):
     config["descriptor"]["n_rr"] = 4
     with pytest.raises(VoxposeError, match="config key descriptor: .*n_rr"):
         wc.validate_config(config, SCHEMA)
+
+
+MOTIONS = {"fps": 30.0, "unit_scale": None, "drop_reference_frame": "auto", "joint_map": None}
+
+
+def test_motion_settings_take_the_first_matching_override():
+    lab_map = {"root": "hip"}
+    motions = MOTIONS | {
+        "overrides": [
+            {"files": ["walk_lab_*", "idle_*"], "unit_scale": 0.01, "joint_map": lab_map},
+            {"files": ["idle_*"], "fps": 24.0, "drop_reference_frame": False},
+        ]
+    }
+    assert wc.motion_settings("walk_cmu_02_01", motions) == MOTIONS  # no entry matches: the section's keys
+    assert wc.motion_settings("walk_lab_3", motions) == MOTIONS | {"unit_scale": 0.01, "joint_map": lab_map}
+    assert wc.motion_settings("idle_x", motions) == MOTIONS | {"unit_scale": 0.01, "joint_map": lab_map}  # first
+    assert wc.motion_settings("walk_lab_3", MOTIONS) == MOTIONS  # no overrides at all
+    motions["overrides"].reverse()
+    assert wc.motion_settings("idle_x", motions) == MOTIONS | {"fps": 24.0, "drop_reference_frame": False}
+
+
+def test_the_shipped_reactidle_entry_maps_only_reactidle_files(config):
+    idle = wc.motion_settings("idle_reactidle_000_genuine", config["motions"])
+    assert idle["unit_scale"] == 1.0 and idle["joint_map"]["lwrist"] == "forearm.L/end"
+    for name in ("walk_cmu_02_01", "walk_bandai1_walk_normal_001", "walk_gen_00", "idle_bandai_x"):
+        assert wc.motion_settings(name, config["motions"]) == MOTIONS
 
 
 def test_generated_names_and_kinds():

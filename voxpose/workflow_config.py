@@ -55,6 +55,21 @@ def derived_motions(derived: list, source_names) -> dict:
     return out
 
 
+def motion_settings(name: str, motions: dict) -> dict:
+    """The settings that load motion ``name`` (``voxpose motion --params``): the ``motions`` section's keys, with
+    those of the first ``motions.overrides`` entry whose ``files`` glob patterns match the name replacing them.
+
+    One folder can mix skeleton families this way: an entry maps one family, and the motions no entry matches
+    keep the section's settings (with ``joint_map: null``, the built-in presets detect their own families).
+    The workflow passes each motion its own settings, so editing an entry reruns only the motions it matches.
+    """
+    settings = {k: v for k, v in motions.items() if k != "overrides"}
+    for entry in motions.get("overrides") or []:
+        if any(fnmatch.fnmatch(name, pattern) for pattern in entry["files"]):
+            return settings | {k: v for k, v in entry.items() if k != "files"}
+    return settings
+
+
 def bvh_dir_motions(bvh_dir) -> dict:
     """Motion name -> path for every ``*.bvh`` in ``bvh_dir`` (an empty or missing folder is an error)."""
     folder = Path(bvh_dir)

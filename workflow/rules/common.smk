@@ -120,7 +120,7 @@ def motion_frames(motion):
     if motion in GENERATED:
         return GENERATED[motion][2]
     n_frames, frame_time = read_duration(SOURCE_BVH[DERIVED[motion][1]] if motion in DERIVED else SOURCE_BVH[motion])
-    return math.ceil(n_frames * frame_time * config["motions"]["fps"])
+    return math.ceil(n_frames * frame_time * wc.motion_settings(motion, config["motions"])["fps"])
 
 
 def by_frames(base, per_frame):
