@@ -1,6 +1,7 @@
 """The workflow's view of the config: validation, motion lists, experiments, parameter-set tags."""
 
 import copy
+import re
 
 import pytest
 import yaml
@@ -127,6 +128,34 @@ def test_bvh_dir_errors(tmp_path):
         wc.bvh_dir_motions(tmp_path / "missing")
     (tmp_path / "walk_x.bvh").write_text("")
     assert list(wc.bvh_dir_motions(tmp_path)) == ["walk_x"]
+
+
+def test_bvh_dir_may_be_a_list_of_folders(tmp_path):
+    for folder, names in {"a": ["walk_x", "jog_y"], "b": ["idle_z"], "c": ["walk_x"]}.items():
+        (tmp_path / folder).mkdir()
+        for name in names:
+            (tmp_path / folder / f"{name}.bvh").write_text("")
+    both = wc.bvh_dir_motions([tmp_path / "a", tmp_path / "b"])
+    assert both == {"jog_y": tmp_path / "a/jog_y.bvh", "walk_x": tmp_path / "a/walk_x.bvh",
+                    "idle_z": tmp_path / "b/idle_z.bvh"}  # fmt: skip
+    first, second = tmp_path / "a/walk_x.bvh", tmp_path / "c/walk_x.bvh"
+    twice = f"config key bvh_dir.1: motion 'walk_x' is in two folders: {first} and {second}"
+    with pytest.raises(VoxposeError, match=f"^{re.escape(twice)}$"):
+        wc.bvh_dir_motions([tmp_path / "a", tmp_path / "c"])
+    with pytest.raises(VoxposeError, match="^config key bvh_dir.1: .*missing is not a folder"):
+        wc.bvh_dir_motions([tmp_path / "a", tmp_path / "missing"])
+
+
+@pytest.mark.parametrize(
+    ("value", "ok"), [(None, True), ("../bvh", True), (["a", "b"], True), ([], False), ("", False), (3, False)]
+)
+def test_bvh_dir_schema(config, value, ok):
+    config["bvh_dir"] = value
+    if ok:
+        wc.validate_config(config, SCHEMA)
+    else:
+        with pytest.raises(VoxposeError, match="^config key bvh_dir: "):
+            wc.validate_config(config, SCHEMA)
 
 
 def test_derived_source_must_exist():

@@ -71,14 +71,25 @@ def motion_settings(name: str, motions: dict) -> dict:
 
 
 def bvh_dir_motions(bvh_dir) -> dict:
-    """Motion name -> path for every ``*.bvh`` in ``bvh_dir`` (an empty or missing folder is an error)."""
-    folder = Path(bvh_dir)
-    if not folder.is_dir():
-        raise VoxposeError(f"config key bvh_dir: {folder} is not a folder")
-    files = sorted(folder.glob("*.bvh"))
-    if not files:
-        raise VoxposeError(f"config key bvh_dir: no .bvh files in {folder}")
-    return {f.stem: f for f in files}
+    """Motion name -> path for every ``*.bvh`` in ``bvh_dir``, a folder or a list of folders.
+
+    A missing folder, a folder without BVH files, or a motion name (file stem) found in two folders is an error.
+    """
+    folders = [bvh_dir] if isinstance(bvh_dir, str | Path) else list(bvh_dir)
+    out = {}
+    for i, item in enumerate(folders):
+        key = "bvh_dir" if isinstance(bvh_dir, str | Path) else f"bvh_dir.{i}"
+        folder = Path(item)
+        if not folder.is_dir():
+            raise VoxposeError(f"config key {key}: {folder} is not a folder")
+        files = sorted(folder.glob("*.bvh"))
+        if not files:
+            raise VoxposeError(f"config key {key}: no .bvh files in {folder}")
+        for f in files:
+            if f.stem in out:
+                raise VoxposeError(f"config key {key}: motion {f.stem!r} is in two folders: {out[f.stem]} and {f}")
+            out[f.stem] = f
+    return out
 
 
 def match(patterns, names, key: str, *, allow_empty: bool = False) -> list:
