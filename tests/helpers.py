@@ -200,6 +200,29 @@ def renamed(bvh: Bvh, names: dict, drop_sites=()) -> Bvh:
     return Bvh(joints, bvh.frame_time, bvh.motion)
 
 
+# A fourth skeleton family made from a CMU file (``lab_family``): every joint renamed in a lab's own style,
+# unknown to the built-in presets, so it loads only with this joint map (the CMU preset's points, renamed).
+LAB_NAMES = {
+    "Hips": "hip", "LHipJoint": "lPelvis", "LeftUpLeg": "lThigh", "LeftLeg": "lShin", "LeftFoot": "lFoot",
+    "LeftToeBase": "lToe", "LowerBack": "abdomen", "Spine": "abdomen2", "Spine1": "chest", "Neck": "neck",
+    "Neck1": "neck2", "Head": "head", "LeftShoulder": "lCollar", "LeftArm": "lShldr", "LeftForeArm": "lForeArm",
+    "LeftHand": "lHand", "LeftFingerBase": "lPalm", "LeftHandIndex1": "lIndex1", "LThumb": "lThumb1",
+}  # fmt: skip
+LAB_NAMES |= {k.replace("Left", "Right").replace("LHip", "RHip").replace("LThumb", "RThumb"): "r" + v[1:]
+              for k, v in LAB_NAMES.items() if v[0] == "l"}  # fmt: skip
+LAB_JOINT_MAP = {
+    "root": "hip", "neck": "neck", "head_top": "head", "lshoulder": "lShldr", "lelbow": "lForeArm",
+    "lwrist": "lHand", "lhand_tip": "lIndex1", "lhip": "lThigh", "lknee": "lShin", "lankle": "lFoot", "ltoe": "lToe",
+}  # fmt: skip
+LAB_JOINT_MAP |= {"r" + k[1:]: "r" + v[1:] for k, v in LAB_JOINT_MAP.items() if k[0] == "l"}
+
+
+def lab_family(cmu: Bvh, seed: int = 0) -> Bvh:
+    """A CMU motion as another family would write it: joints renamed (``LAB_NAMES``) and every joint's
+    rotation channels in a new Euler order (``reorder_channels``); the same motion, so the same 42 angles."""
+    return renamed(reorder_channels(cmu, seed), LAB_NAMES)
+
+
 # T-pose offsets of a 1.75 m subject, each in its parent's canonical frame (metres)
 OFFSETS = {
     "root": (0.0, 0.0, 0.0),

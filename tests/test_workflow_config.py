@@ -158,16 +158,49 @@ def test_bvh_dir_schema(config, value, ok):
             wc.validate_config(config, SCHEMA)
 
 
-def test_derived_source_must_exist():
-    assert wc.derived_motions([{"kind": "spiral", "source": "walk_a"}], ["walk_a"]) == {
-        "spiral_walk_a": ("spiral", "walk_a", {})
-    }
+def test_derived_motions_and_absent_sources():
+    assert wc.derived_motions([{"kind": "spiral", "source": "walk_a"}], ["walk_a"]) == (
+        {"spiral_walk_a": ("spiral", "walk_a", {})},
+        [],
+    )
     turn = wc.derived_motions([{"kind": "turn", "source": "jog_b", "degrees": 90}], ["jog_b"])
-    assert turn == {"jog_b_turn090": ("turn", "jog_b", {"degrees": 90})}
+    assert turn == ({"jog_b_turn090": ("turn", "jog_b", {"degrees": 90})}, [])
     with pytest.raises(VoxposeError, match=r"derived.0: a turn needs 'degrees'"):
         wc.derived_motions([{"kind": "turn", "source": "jog_b"}], ["jog_b"])
-    with pytest.raises(VoxposeError, match=r"config key derived.0.source: no motion named 'walk_z'"):
-        wc.derived_motions([{"kind": "spiral", "source": "walk_z"}], ["walk_a"])
+    # a source not in bvh_dir (the shipped list names the shared walks): left out, and named
+    items = [{"kind": "spiral", "source": "walk_z"}, {"kind": "drunk", "source": "walk_a"},
+             {"kind": "turn", "source": "walk_z", "degrees": 45}]  # fmt: skip
+    assert wc.derived_motions(items, ["walk_a"]) == (
+        {"drunk_walk_a": ("drunk", "walk_a", {})},
+        ["spiral_walk_z", "walk_z_turn045"],
+    )
+
+
+SHIPPED = {
+    "table1": {"train": ["walk_*", "jog_*"], "exclude": ["walk_s8_*"], "test": ["spiral_walk_s8_*"]},
+    "figure4": {"train": ["walk_s2_01", "jog_b_01"], "test": ["walk_s5_*", "turnwalk_*"]},
+}
+
+
+def test_a_shipped_experiment_without_motions_is_skipped():
+    names = ["walk_s2_01", "walk_s5_01", "walk_s8_01", "turnwalk_c"]
+    experiments, skipped = wc.resolve_experiments(SHIPPED, names, "bvh_experiments", SHIPPED)
+    assert skipped == ["table1"]  # no spiral to test on
+    # figure4 keeps the patterns that match (jog_b_01 is absent): no error
+    assert experiments == {"figure4": {"train": ["walk_s2_01"], "test": ["turnwalk_c", "walk_s5_01"]}}
+    # training motions that are all excluded count as none
+    _, skipped = wc.resolve_experiments(SHIPPED, ["walk_s8_01", "spiral_walk_s8_01"], "bvh_experiments", SHIPPED)
+    assert skipped == ["table1", "figure4"]
+
+
+def test_the_users_own_experiment_keeps_the_strict_rules():
+    names = ["walk_s2_01", "walk_s5_01", "turnwalk_c"]
+    own = {"figure4": {"train": ["walk_s2_01", "jog_b_01"], "test": ["walk_s5_*"]}}  # differs from the shipped one
+    with pytest.raises(VoxposeError, match=r"^config key bvh_experiments.figure4.train: pattern 'jog_b_01' matches no"):
+        wc.resolve_experiments(own, names, "bvh_experiments", SHIPPED)
+    own = {"table1": {"train": ["walk_*"], "test": ["spiral_*"]}}
+    with pytest.raises(VoxposeError, match=r"^config key bvh_experiments.table1.test: pattern 'spiral_\*' matches no"):
+        wc.resolve_experiments(own, names, "bvh_experiments", SHIPPED)
 
 
 def test_tags_distinguish_parameter_sets(config):

@@ -133,6 +133,15 @@ def test_changing_r_max_reruns_descriptors_onward_not_carving(workflow_dir):
     assert not {"generate_bvh", "motion", "rig", "voxelize"} & set(jobs)
 
 
+def test_an_override_entry_reruns_only_the_motions_it_matches(workflow_dir):
+    entry = "motions:\n  overrides:\n    - files: ['walk_gen_00']\n      fps: 25.0\n"
+    jobs = scheduled(workflow_dir, _override(workflow_dir, "motion_entry", entry))
+    assert jobs["motion"] == 1 and {"voxelize", "describe", "regress"} <= set(jobs)
+    assert "generate_bvh" not in jobs
+    # the shipped entry (ReActIdle files) matches no generated motion: without it nothing changes
+    assert scheduled(workflow_dir, _override(workflow_dir, "no_entries", "motions:\n  overrides: []\n")) == {}
+
+
 def test_a_changed_rig_under_a_new_name_reruns_from_carving(workflow_dir):
     jobs = scheduled(workflow_dir, _override(workflow_dir, "rig", "rig:\n  name: far\n  radius: 4.5\n"))
     assert {"rig", "voxelize", "describe", "fit_features", "regress", "table1"} <= set(jobs)
