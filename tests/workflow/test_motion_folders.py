@@ -10,19 +10,15 @@ import shutil
 import pytest
 import yaml
 
-from tests.helpers import LAB_JOINT_MAP, ROOT, lab_family
-from tests.workflow.test_workflow import snakemake
+from tests.helpers import LAB_JOINT_MAP, lab_family
+from tests.workflow.test_workflow import copy_workflow, snakemake
 from voxpose.io.bvh import read_bvh, write_bvh
 from voxpose.motion.generate import default_motion
 
 
 @pytest.fixture(scope="module")
 def workdir(tmp_path_factory):
-    work = tmp_path_factory.mktemp("folders")
-    for item in ("Snakefile", "workflow", "config", "voxpose"):
-        src = ROOT / item
-        (shutil.copytree if src.is_dir() else shutil.copy)(src, work / item)
-    return work
+    return copy_workflow(tmp_path_factory.mktemp("folders"))
 
 
 def dry_run(workdir, config: dict):

@@ -46,12 +46,17 @@ def scheduled(workdir, *configfiles, args=()) -> dict:
     return {m.group(1): int(m.group(2)) for m in rows if m.group(1) != "total"}
 
 
-@pytest.fixture(scope="module")
-def workflow_dir(tmp_path_factory):
-    work = tmp_path_factory.mktemp("workflow")
+def copy_workflow(work: Path) -> Path:
+    """A copy of the workflow and the package in ``work``, to run Snakemake in."""
     for item in ("Snakefile", "workflow", "config", "voxpose"):
         src = ROOT / item
         (shutil.copytree if src.is_dir() else shutil.copy)(src, work / item)
+    return work
+
+
+@pytest.fixture(scope="module")
+def workflow_dir(tmp_path_factory):
+    work = copy_workflow(tmp_path_factory.mktemp("workflow"))
     snakemake(work)
     return work
 
