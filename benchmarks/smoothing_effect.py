@@ -1,11 +1,11 @@
 """What temporal smoothing (``voxpose predict --smooth``) does to the test error of a workflow run.
 
-For each ``predictions.h5`` given (from ``voxpose regress``: per test motion the MVRVM's per-frame estimates,
+For each ``predictions.h5`` given (from ``voxpose evaluate``: per test motion the MVRVM's per-frame estimates,
 their validity and the true angles), the estimates are smoothed over time with ``predict.smooth_angles`` for
 each Gaussian sigma (frames) and the full-body error (mean over the 42 angles of the RMS over frames, as in
 Tables 1-2) is recomputed over the same valid frames. Sigma 0 is the paper's setting and reproduces the run.
 
-    .venv/bin/python benchmarks/smoothing_effect.py results/runs/table1/*/*/mppca-*/predictions.h5 \
+    .venv/bin/python benchmarks/smoothing_effect.py results/runs/*/*/*/mppca-*/sets/*/predictions.h5 \
         [--sigmas 0 0.5 1 2 3 5]
 """
 

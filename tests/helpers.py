@@ -342,3 +342,21 @@ SPHERE = Ellipsoids(("sphere",), np.array([[0.0, 1.0, 0.0]]), np.eye(3)[None], n
 
 VOLUME_BOX = [[-0.5, 0.45, -0.5], [0.5, 1.55, 0.5]]
 
+
+def mvrvm_toy(n=200, noise=0.1, seed=0):
+    """MVRVM test data: three functions of one input (sinc, a line, a cosine) with Gaussian noise, and their
+    clean values."""
+    rng = np.random.default_rng(seed)
+    x = np.sort(rng.uniform(-10, 10, n))[:, None]
+    clean = np.stack([np.sinc(x[:, 0] / np.pi), 0.05 * x[:, 0], np.cos(x[:, 0] / 2)], axis=1)
+    return x, clean + noise * rng.standard_normal(clean.shape), clean
+
+
+def mvrvm_log_ml(phi, y, alpha, beta):
+    """The MVRVM's log marginal likelihood by brute force: sum_p log N(y_p | 0, I / beta_p + Phi A^-1 Phi')."""
+    total = 0.0
+    for p in range(y.shape[1]):
+        c = np.eye(len(y)) / beta[p] + (phi / alpha) @ phi.T
+        _, logdet = np.linalg.slogdet(c)
+        total += -0.5 * (len(y) * np.log(2 * np.pi) + logdet + y[:, p] @ np.linalg.solve(c, y[:, p]))
+    return total

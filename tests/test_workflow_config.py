@@ -107,7 +107,36 @@ def test_experiment_resolution():
     exp = wc.resolve_experiment(
         "t", {"train": ["walk_*", "jog_*"], "test": ["spiral_*"], "exclude": ["walk_b"]}, names, "experiments"
     )
-    assert exp == {"train": ["jog_a", "walk_a"], "test": ["spiral_x", "spiral_y"]}
+    assert exp == {"train": ["jog_a", "walk_a"], "test": ["spiral_x", "spiral_y"],
+                   "test_sets": {"test": ["spiral_x", "spiral_y"]}}  # fmt: skip
+
+
+def test_named_test_sets_resolve_each_and_refuse_overlap_naming_the_set():
+    names = ["walk_a", "walk_b", "jog_a", "spiral_x", "spiral_y"]
+    spec = {"train": ["walk_a"], "test": {"spirals": ["spiral_*"], "other": ["jog_a", "walk_b", "spiral_x"]}}
+    exp = wc.resolve_experiment("t", spec, names, "experiments")
+    assert exp["test_sets"] == {"spirals": ["spiral_x", "spiral_y"], "other": ["jog_a", "spiral_x", "walk_b"]}
+    assert exp["test"] == ["spiral_x", "spiral_y", "jog_a", "walk_b"]  # every test motion once, in set order
+    bad = {"train": ["walk_*"], "test": {"spirals": ["spiral_*"], "mixed": ["walk_b"]}}
+    with pytest.raises(VoxposeError, match="config key experiments.t.test.mixed: test motions also in training"):
+        wc.resolve_experiment("t", bad, names, "experiments")
+    with pytest.raises(VoxposeError, match=r"config key experiments.t.test.runs: pattern 'run_\*' matches no"):
+        wc.resolve_experiment("t", {"train": ["walk_a"], "test": {"runs": ["run_*"]}}, names, "experiments")
+
+
+def test_a_motion_set_tag_depends_on_the_motions_only():
+    tag = wc.motion_set_tag(["walk_a", "jog_a"])
+    assert tag == wc.motion_set_tag(["jog_a", "walk_a"]) and tag.startswith("n2-")
+    assert tag != wc.motion_set_tag(["walk_a", "jog_b"]) and tag != wc.motion_set_tag(["walk_a"])
+
+
+def test_named_test_sets_pass_the_schema_and_bad_set_names_do_not():
+    config = yaml.safe_load((ROOT / "config/config.yaml").read_text())
+    config["experiments"]["table2"]["test"] = {"walks": ["walk_*"], "rest": ["jog_*"]}
+    wc.validate_config(config, ROOT / "config/schema.yaml")
+    config["experiments"]["table2"]["test"] = {"a/b": ["walk_*"]}
+    with pytest.raises(VoxposeError, match="config key experiments.table2.test"):
+        wc.validate_config(config, ROOT / "config/schema.yaml")
 
 
 def test_overlapping_experiment_is_refused_naming_the_files():
@@ -187,7 +216,12 @@ def test_a_shipped_experiment_without_motions_is_skipped():
     experiments, skipped = wc.resolve_experiments(SHIPPED, names, "bvh_experiments", SHIPPED)
     assert skipped == ["table1"]  # no spiral to test on
     # figure4 keeps the patterns that match (jog_b_01 is absent): no error
-    assert experiments == {"figure4": {"train": ["walk_s2_01"], "test": ["turnwalk_c", "walk_s5_01"]}}
+    test = ["turnwalk_c", "walk_s5_01"]
+    assert experiments == {"figure4": {"train": ["walk_s2_01"], "test_sets": {"test": test}, "test": test}}
+    # a named test set none of whose patterns match is left out with them
+    named = {"figure4": SHIPPED["figure4"] | {"test": {"held_out": ["walk_s5_*"], "spirals": ["spiral_*"]}}}
+    experiments, skipped = wc.resolve_experiments(named, names, "bvh_experiments", named)
+    assert skipped == [] and experiments["figure4"]["test_sets"] == {"held_out": ["walk_s5_01"]}
     # training motions that are all excluded count as none
     _, skipped = wc.resolve_experiments(SHIPPED, ["walk_s8_01", "spiral_walk_s8_01"], "bvh_experiments", SHIPPED)
     assert skipped == ["table1", "figure4"]

@@ -1,17 +1,69 @@
-"""Input checks shared by every stage: one copy each, raising a one-line ``VoxposeError`` naming the input."""
+"""Input checks shared by every stage, and the squared distances several stages compute: one copy each.
+
+Every check raises a one-line ``VoxposeError`` naming the input at fault (the caller's ``name``), or the
+estimator used before ``fit``.
+"""
+
+import math
+import numbers
 
 import numpy as np
 
-from voxpose.errors import VoxposeError
+from voxpose.errors import NotFittedError, VoxposeError
+
+_CHECK_ROWS = 4096  # rows checked for NaN at once: large descriptor sets are never copied whole
 
 
-def as_rows(a, name: str, n_cols: int | None = None) -> np.ndarray:
-    """``a`` as a finite float64 (n, d) array with n >= 1, else a ``VoxposeError`` naming ``name``."""
-    arr = np.asarray(a, dtype=np.float64)
-    if arr.ndim != 2 or arr.shape[0] < 1 or arr.shape[1] < 1:
-        raise VoxposeError(f"{name}: expected a non-empty 2-D array (rows, columns), got shape {arr.shape}")
+def as_rows(a, name: str, n_cols: int | None = None, *, dtype=np.float64) -> np.ndarray:
+    """``a`` as a non-empty 2-D array (rows, columns) of finite real numbers, else a ``VoxposeError``.
+
+    ``n_cols``: the required number of columns (e.g. a fitted model's dimension). ``dtype``: the result's
+    dtype (converted only when needed); ``None`` keeps the input's real dtype and never copies, for large
+    float32 or integer descriptor sets. A NaN or infinite entry is reported with its row.
+    """
+    arr = np.asarray(a)
+    if arr.ndim != 2:
+        raise VoxposeError(f"{name}: expected a 2-D array (rows, columns), got shape {arr.shape}")
+    if not (np.issubdtype(arr.dtype, np.floating) or np.issubdtype(arr.dtype, np.integer)):
+        raise VoxposeError(f"{name}: expected real numbers, got dtype {arr.dtype}")
+    if arr.shape[0] < 1 or arr.shape[1] < 1:
+        raise VoxposeError(f"{name}: expected at least one row and one column, got shape {arr.shape}")
     if n_cols is not None and arr.shape[1] != n_cols:
         raise VoxposeError(f"{name}: expected {n_cols} columns, got {arr.shape[1]}")
-    if not np.all(np.isfinite(arr)):
-        raise VoxposeError(f"{name}: holds NaN or infinite values")
-    return arr
+    if np.issubdtype(arr.dtype, np.floating):
+        for start in range(0, arr.shape[0], _CHECK_ROWS):
+            bad = ~np.isfinite(arr[start : start + _CHECK_ROWS]).all(axis=1)
+            if bad.any():
+                raise VoxposeError(f"{name}: row {start + int(np.argmax(bad))} contains NaN or infinite values")
+    return arr if dtype is None else arr.astype(dtype, copy=False)
+
+
+def positive_number(value, name: str) -> float:
+    """``value`` as a float when it is a finite real number > 0 (a bool or a string is none), else a
+    ``VoxposeError`` naming ``name``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not 0 < value < math.inf:
+        raise VoxposeError(f"{name} must be positive and finite, got {value!r}")
+    return float(value)
+
+
+def integer(value, name: str, minimum: int = 1) -> int:
+    """``value`` as an int >= ``minimum`` (a bool is no integer here), else a ``VoxposeError`` naming ``name``."""
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
+        raise VoxposeError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    return int(value)
+
+
+def squared_distances(a, b) -> np.ndarray:
+    """Squared Euclidean distances (n, m), float64, between the rows of ``a`` (n, d) and ``b`` (m, d).
+
+    ``|a|^2 + |b|^2 - 2 a.b`` (one matrix product), with the round-off negatives clipped at zero.
+    """
+    a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+    d2 = np.sum(a * a, axis=1)[:, None] + np.sum(b * b, axis=1)[None, :] - 2.0 * (a @ b.T)
+    return np.maximum(d2, 0.0, out=d2)
+
+
+def check_fitted(estimator, attribute: str) -> None:
+    """A ``NotFittedError`` naming the estimator's class unless ``fit`` (or ``from_arrays``) set ``attribute``."""
+    if not hasattr(estimator, attribute):
+        raise NotFittedError(f"{type(estimator).__name__} is not fitted: call fit first")

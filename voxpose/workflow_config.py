@@ -7,6 +7,7 @@ target, and changing one value creates new targets instead of overwriting old on
 """
 
 import fnmatch
+import hashlib
 from pathlib import Path
 
 import jsonschema
@@ -108,19 +109,38 @@ def match(patterns, names, key: str, *, allow_empty: bool = False) -> list:
 
 
 def resolve_experiment(name: str, exp: dict, names, key_prefix: str) -> dict:
-    """Train and test motion lists of one experiment; overlapping sets are refused, naming the motions."""
+    """Training motions and named test sets of one experiment.
+
+    ``exp["test"]`` is a list of patterns (one test set, named ``test``) or a mapping ``{set name: patterns}``.
+    Returns ``{"train": [...], "test_sets": {name: [...]}, "test": every test motion once, in set order}``.
+    A test motion also in training is refused, naming the motions.
+    """
     key = f"{key_prefix}.{name}"
     exclude = set(match(exp.get("exclude", []), names, f"{key}.exclude", allow_empty=True))
     train = [m for m in match(exp["train"], names, f"{key}.train") if m not in exclude]
-    test = [m for m in match(exp["test"], names, f"{key}.test") if m not in exclude]
     if not train:
         raise VoxposeError(f"config key {key}.train: every training motion is excluded")
-    if not test:
-        raise VoxposeError(f"config key {key}.test: every test motion is excluded")
-    overlap = sorted(set(train) & set(test))
-    if overlap:
-        raise VoxposeError(f"config key {key}: test motions also in training: {', '.join(overlap)}")
-    return {"train": train, "test": test}
+    named = isinstance(exp["test"], dict)
+    test_sets = {}
+    for set_name, patterns in (exp["test"] if named else {"test": exp["test"]}).items():
+        set_key = f"{key}.test.{set_name}" if named else f"{key}.test"
+        test = [m for m in match(patterns, names, set_key) if m not in exclude]
+        if not test:
+            raise VoxposeError(f"config key {set_key}: every test motion is excluded")
+        overlap = sorted(set(train) & set(test))
+        if overlap:
+            raise VoxposeError(f"config key {set_key if named else key}: test motions also in training: "
+                               f"{', '.join(overlap)}")  # fmt: skip
+        test_sets[set_name] = test
+    every_test = list(dict.fromkeys(m for motions in test_sets.values() for m in motions))
+    return {"train": train, "test_sets": test_sets, "test": every_test}
+
+
+def motion_set_tag(names) -> str:
+    """Directory name of a set of motions by its content (``n<count>-<hash>``), so that experiments with the
+    same training motions share one feature fit and one regressor, whatever the experiments are called."""
+    digest = hashlib.sha256("\n".join(sorted(names)).encode()).hexdigest()[:10]
+    return f"n{len(names)}-{digest}"
 
 
 def _has_motions(patterns, names, exclude: set) -> bool:
@@ -132,8 +152,8 @@ def _has_motions(patterns, names, exclude: set) -> bool:
 
 def _matching_patterns(patterns, names):
     """``patterns`` (a list, or a mapping of lists) without the patterns that match no name."""
-    if isinstance(patterns, dict):
-        return {k: _matching_patterns(p, names) for k, p in patterns.items()}
+    if isinstance(patterns, dict):  # named test sets: a set none of whose patterns match is left out
+        return {k: kept for k, p in patterns.items() if (kept := _matching_patterns(p, names))}
     return [p for p in patterns if fnmatch.filter(names, p)]
 
 

@@ -18,6 +18,9 @@ from voxpose.motion import canon
 from voxpose.motion.load import load_motion
 from voxpose.motion.output_skeleton import angles_from_bvh
 
+# the tiny training's MPPCA stops at its max_iter of 10: expected, not a failure
+pytestmark = pytest.mark.filterwarnings("ignore::voxpose.errors.ConvergenceWarning")
+
 TRAIN = ("walk_gen_00", "jog_gen_00", "drunk_gen_00")
 TEST = "walk_gen_01"
 RIG = {"name": "six", "file": None, "n_cameras": 6, "radius": 4.0, "height": 2.0, "target_height": 1.0,
@@ -67,10 +70,12 @@ def trained(tmp_path_factory):
     run("fit-features", *(d / f"desc_{n}.h5" for n in TRAIN), "--method", "mppca", "--params", json.dumps(FEATURES),
         "--seed", 7, "-o", d / "features_model.h5")  # fmt: skip
     run("features", d / "features_model.h5", *(d / f"desc_{n}.h5" for n in (*TRAIN, TEST)), "-o", d / "features.h5")
-    run("regress", d / "features.h5", *(d / f"{n}.h5" for n in (*TRAIN, TEST)), "--train", ",".join(TRAIN),
-        "--test", TEST, "--params", json.dumps(REGRESSION), "--seed", 7, "--model", d / "regressor.h5",
-        "--predictions", d / "predictions.h5", "--angles", d / "angles.csv",
-        "--summary", d / "summary.json")  # fmt: skip
+    run("regress", d / "features.h5", *(d / f"{n}.h5" for n in TRAIN), "--train", ",".join(TRAIN),
+        "--params", json.dumps(REGRESSION), "--seed", 7, "--regressor", d / "regressor.h5",
+        "--baselines", d / "baselines.h5", "--fit", d / "fit.json")  # fmt: skip
+    run("evaluate", d / "features.h5", d / f"{TEST}.h5", "--regressor", d / "regressor.h5", "--baselines",
+        d / "baselines.h5", "--fit", d / "fit.json", "--test", TEST, "--params", json.dumps(REGRESSION),
+        "--predictions", d / "predictions.h5", "--angles", d / "angles.csv", "-o", d / "summary.json")  # fmt: skip
     run("export-model", "--feature-model", d / "features_model.h5", "--regressor", d / "regressor.h5",
         "--summary", d / "summary.json", "--motions", *(d / f"{n}.h5" for n in TRAIN), "--voxels", json.dumps(VOXELS),
         "--descriptor", json.dumps(DESCRIPTOR), "--regression", json.dumps(REGRESSION), "--seed", 7,

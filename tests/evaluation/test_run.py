@@ -29,29 +29,66 @@ def test_cap_below_the_number_of_motions_is_refused():
         thin_frames([np.ones(5, bool)] * 12, 10)
 
 
-def test_width_selection_fits_get_their_own_budget(tmp_path):
-    """The candidate fits stop at ``selection_max_iter`` moves; the final fit keeps ``max_iter``."""
-    from voxpose.evaluation.run import run
+def _planted(tmp_path, kinds=("walk", "jog", "walk")):
+    """Generated motions with features planted from their angles (sin, cos and noise): a regressor can learn them."""
     from voxpose.io.bvh import write_bvh
     from voxpose.motion.generate import generate_motion
     from voxpose.motion.load import load_motion
 
     motions, features = {}, {}
     rng = np.random.default_rng(0)
-    for i, kind in enumerate(("walk", "jog", "walk")):
+    for i, kind in enumerate(kinds):
         path = tmp_path / f"{kind}_gen_{i:02d}.bvh"
         write_bvh(generate_motion(kind, seed=i, n_frames=40, height=1.75), path)
         motion = load_motion(path)
         motions[motion.name] = motion
         angles = np.radians(motion.angles)
         planted = np.hstack([np.sin(angles), np.cos(angles)]) + 0.01 * rng.standard_normal((40, 84))
-        features[motion.name] = {"features": planted, "counts": np.full(40, 200)}
+        counts = np.full(40, 200)
+        counts[5] = 0  # a gap: no prediction, left out of the errors
+        features[motion.name] = {"features": planted, "counts": counts}
+    return motions, features
+
+
+CFG = {"pca_variance": 0.9, "heading": "vector", "kernel_width": "auto", "width_scales": [0.8, 1.0],
+       "max_iter": 40, "selection_max_iter": 3, "tol": 1e-3}  # fmt: skip
+
+
+@pytest.mark.filterwarnings("ignore::voxpose.errors.ConvergenceWarning")  # the budgets are that small on purpose
+def test_width_selection_fits_get_their_own_budget(tmp_path):
+    """The candidate fits stop at ``selection_max_iter`` moves; the final fit keeps ``max_iter``."""
+    from voxpose.evaluation.run import fit
+
+    motions, features = _planted(tmp_path)
     names = sorted(motions)
-    cfg = {"pca_variance": 0.9, "heading": "vector", "kernel_width": "auto", "width_scales": [0.8, 1.0],
-           "max_iter": 40, "selection_max_iter": 3, "tol": 1e-3}  # fmt: skip
-    summary = run(features, motions, names[:2], names[2:], cfg, seed=0).summary
+    summary = fit(features, motions, names[:2], CFG, seed=0).summary
     assert [row["n_iter"] for row in summary["width_selection"]] == [3, 3]
     assert summary["mvrvm"]["n_iter"] > 3
-    cfg["selection_max_iter"] = None  # null: the candidates get max_iter too
-    summary = run(features, motions, names[:2], names[2:], cfg, seed=0).summary
-    assert all(row["n_iter"] > 3 for row in summary["width_selection"])
+    summary = fit(features, motions, names[:2], CFG | {"selection_max_iter": None}, seed=0).summary
+    assert all(row["n_iter"] > 3 for row in summary["width_selection"])  # null: the candidates get max_iter too
+
+
+@pytest.mark.filterwarnings("ignore::voxpose.errors.ConvergenceWarning")
+def test_a_saved_fit_tests_exactly_as_the_fitted_one(tmp_path):
+    """One fit serves every test set: saved and loaded, it gives the same predictions and errors, every method."""
+    from voxpose.evaluation.run import Fit, fit
+
+    motions, features = _planted(tmp_path, ("walk", "jog", "walk", "jog"))
+    names = sorted(motions)
+    fitted = fit(features, motions, names[:2], CFG, seed=0)
+    fitted.save(tmp_path / "r.h5", tmp_path / "b.h5", tmp_path / "fit.json")
+    loaded = Fit.load(tmp_path / "r.h5", tmp_path / "b.h5", tmp_path / "fit.json")
+    for test in (names[2:3], names[2:]):
+        pred_a, sum_a = fitted.test(features, motions, test)
+        pred_b, sum_b = loaded.test(features, motions, test)
+        assert sum_a == sum_b
+        assert list(sum_a["methods"]) == ["mvrvm", "mean_pose", "nearest_neighbour", "kernel_ridge"]
+        assert sum_a["test_frames"] == 39 * len(test) and sum_a["test_gaps"] == len(test)
+        for name in test:
+            for key in pred_a[name]:
+                np.testing.assert_array_equal(pred_a[name][key], pred_b[name][key])
+    # a regressor file alone (the claims, the model file): the MVRVM and the training mean pose
+    alone = Fit.load(tmp_path / "r.h5", heading="vector")
+    _, summary = alone.test(features, motions, names[2:3])
+    assert list(summary["methods"]) == ["mvrvm", "mean_pose"]
+    assert summary["methods"]["mvrvm"] == fitted.test(features, motions, names[2:3])[1]["methods"]["mvrvm"]

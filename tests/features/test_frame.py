@@ -5,7 +5,7 @@ import pytest
 from scipy.special import logsumexp
 from scipy.stats import multivariate_normal
 
-from voxpose.errors import VoxposeError
+from voxpose.errors import NotFittedError, VoxposeError
 from voxpose.features.frame import SoftVoteRule, kmeans_features, mppca_features
 from voxpose.features.kmeans import KMeans
 from voxpose.features.mppca import MPPCA
@@ -101,7 +101,7 @@ def test_bad_frame_input_raises(mppca_model):
         ((X, np.where(frame_index == 4, 9, frame_index), 6), "outside the 6 frames"),
         ((X, frame_index - 1, 6), "outside the 6 frames"),
         ((X, frame_index, 0), "n_frames"),
-        ((X[:, :4], frame_index, 6), "features per row"),
+        ((X[:, :4], frame_index, 6), "expected 5 columns, got 4"),
         (
             (np.where(np.arange(X.size).reshape(X.shape) == 7, np.nan, X), frame_index, 6),
             "row 1 contains NaN",
@@ -112,7 +112,7 @@ def test_bad_frame_input_raises(mppca_model):
             mppca_features(mppca_model, *args)
         with pytest.raises(VoxposeError, match=message):
             kmeans_features(centres, *args, rule=rule)
-    with pytest.raises(VoxposeError, match="not fitted"):
+    with pytest.raises(NotFittedError, match="MPPCA is not fitted"):
         mppca_features(MPPCA(2), X, frame_index, 6)
     with pytest.raises(VoxposeError, match="only 5"):
         kmeans_features(centres, X, frame_index, 6, rule=SoftVoteRule(6, 1.0))

@@ -1,18 +1,19 @@
 """k-means: planted centres, brute-force labels and inertia, determinism, chunking, empty clusters,
 bad input."""
 
+import warnings
+
 import numpy as np
 import pytest
 
 import voxpose.features.kmeans as kmeans_module
-from voxpose.errors import VoxposeError
+from voxpose.errors import ConvergenceWarning, NotFittedError, VoxposeError
 from voxpose.features.kmeans import (
     KMeans,
     group_sums,
     kmeans_plus_plus,
     mean_feature_variance,
     nearest_centres,
-    squared_distances,
 )
 
 
@@ -32,7 +33,6 @@ def test_helpers_match_brute_force():
     rng = np.random.default_rng(1)
     X, centres = rng.normal(size=(30, 4)), rng.normal(size=(6, 4))
     reference = brute_force_sqdist(X, centres)
-    np.testing.assert_allclose(squared_distances(X, centres), reference, rtol=1e-12, atol=1e-12)
     labels, sqdist = nearest_centres(X, centres, chunk_size=7)
     np.testing.assert_array_equal(labels, reference.argmin(axis=1))
     np.testing.assert_allclose(sqdist, reference.min(axis=1), rtol=1e-12)
@@ -111,8 +111,33 @@ def test_bad_input_raises(X, kwargs, message):
 
 
 def test_predict_checks_fit_and_dimension():
-    with pytest.raises(VoxposeError, match="not fitted"):
-        KMeans(2).predict(np.zeros((2, 3)))
+    for use in (lambda: KMeans(2).predict(np.zeros((2, 3))), KMeans(2).to_arrays):
+        with pytest.raises(NotFittedError, match=r"^KMeans is not fitted: call fit first$"):
+            use()
     model = KMeans(2, random_state=0).fit(np.arange(12.0).reshape(4, 3))
-    with pytest.raises(VoxposeError, match="features"):
+    with pytest.raises(VoxposeError, match="k-means input: expected 3 columns, got 4"):
         model.predict(np.zeros((2, 4)))
+
+
+def test_restored_model_predicts_exactly_like_the_fitted_one():
+    X, _ = planted_blobs(4, spread=2.0)
+    model = KMeans(5, random_state=1).fit(X)
+    restored = KMeans.from_arrays(*model.to_arrays())
+    np.testing.assert_array_equal(restored.predict(X), model.predict(X))
+    assert restored.n_clusters == 5
+    assert (restored.inertia_, restored.n_iter_, restored.converged_) == (model.inertia_, model.n_iter_, True)
+
+
+def test_a_fit_stopped_by_max_iter_warns():
+    X, _ = planted_blobs(4, spread=2.0)
+    with pytest.warns(ConvergenceWarning, match=r"^KMeans: no convergence in 1 iterations \(tol 0.0001\)$"):
+        assert not KMeans(5, max_iter=1, random_state=1).fit(X).converged_
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ConvergenceWarning)
+        assert KMeans(5, random_state=1).fit(X).n_iter_ > 1  # the same data need more than one iteration
+
+
+def test_constructor_is_keyword_only_after_n_clusters():
+    assert KMeans(3).n_clusters == 3
+    with pytest.raises(TypeError):
+        KMeans(3, 50)

@@ -1,6 +1,8 @@
 """MPPCA against independent references: dense Gaussian densities, a literal Appendix C step, the spherical
 Gaussian mixture update, closed-form PPCA, and planted mixtures."""
 
+import warnings
+
 import numpy as np
 import pytest
 from scipy.linalg import subspace_angles
@@ -8,8 +10,11 @@ from scipy.special import logsumexp
 from scipy.stats import multivariate_normal
 
 import voxpose.features.mppca as mppca_module
-from voxpose.errors import VoxposeError
+from voxpose.errors import ConvergenceWarning, NotFittedError, VoxposeError
 from voxpose.features.mppca import MPPCA
+
+# most fits here stop after a few EM steps on purpose; test_a_fit_stopped_by_max_iter_warns checks the warning
+pytestmark = pytest.mark.filterwarnings("ignore::voxpose.errors.ConvergenceWarning")
 
 
 def dense_log_joint(X, weights, means, components, noise):
@@ -295,11 +300,42 @@ def test_bad_fit_input_raises(X, kwargs, message):
 
 
 def test_scoring_checks_fit_and_dimension():
-    with pytest.raises(VoxposeError, match="not fitted"):
-        MPPCA(2).score_samples(GOOD)
+    unfitted = MPPCA(2)
+    for use in (unfitted.score_samples, unfitted.predict_proba, unfitted.score):
+        with pytest.raises(NotFittedError, match=r"^MPPCA is not fitted: call fit first$"):
+            use(GOOD)
+    with pytest.raises(NotFittedError, match="MPPCA is not fitted"):
+        unfitted.to_arrays()
     model = MPPCA(2, n_latent=1, max_iter=2, random_state=0).fit(GOOD)
     for method in (model.score_samples, model.predict_proba, model.score):
-        with pytest.raises(VoxposeError, match="5 features per row, the model was fitted with 4"):
+        with pytest.raises(VoxposeError, match="MPPCA input: expected 4 columns, got 5"):
             method(np.zeros((3, 5)))
     with pytest.raises(VoxposeError, match="row 1"):
         model.predict_proba(np.array([[0.0, 0, 0, 0], [0, np.nan, 0, 0]]))
+
+
+def test_restored_model_scores_exactly_like_the_fitted_one():
+    X, _, _, _, _ = planted_mixture(1, [300, 500])
+    model = MPPCA(2, n_latent=2, random_state=0).fit(X)
+    restored = MPPCA.from_arrays(*model.to_arrays())
+    np.testing.assert_array_equal(restored.predict_proba(X), model.predict_proba(X))
+    np.testing.assert_array_equal(restored.score_samples(X), model.score_samples(X))
+    assert (restored.n_components, restored.n_latent) == (2, 2)
+    for name in ("log_likelihood_", "n_iter_", "converged_", "n_reseeded_", "noise_variance_floor_"):
+        assert getattr(restored, name) == getattr(model, name), name
+
+
+def test_a_fit_stopped_by_max_iter_warns():
+    X = overlapping_clusters(6, n_per=200)  # EM needs 18 steps here
+    with pytest.warns(ConvergenceWarning, match=r"^MPPCA: no convergence in 1 EM iterations \(tol 0.0001\)$"):
+        assert not MPPCA(3, n_latent=2, max_iter=1, random_state=0).fit(X).converged_
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ConvergenceWarning)
+        assert MPPCA(3, n_latent=2, random_state=0).fit(X).converged_  # the same data converge given the steps
+        MPPCA(3, n_latent=2, max_iter=0, random_state=0).fit(X)  # no EM asked for: nothing to warn about
+
+
+def test_constructor_is_keyword_only_after_n_components():
+    assert MPPCA(3).n_components == 3
+    with pytest.raises(TypeError):
+        MPPCA(3, 2)

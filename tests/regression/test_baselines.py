@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from voxpose.errors import VoxposeError
+from voxpose.errors import NotFittedError, VoxposeError
 from voxpose.regression.baselines import KernelRidge, MeanPose, NearestNeighbour, cholesky_solve
 from voxpose.regression.kernels import holdout_split
 
@@ -84,7 +84,7 @@ def test_cholesky_solve_adds_jitter_to_singular_matrices():
 @pytest.mark.parametrize("model", [MeanPose(), NearestNeighbour(), KernelRidge(ridge=0.1)])
 def test_bad_input_raises(model):
     x, y = data()
-    with pytest.raises(VoxposeError, match="call fit"):
+    with pytest.raises(NotFittedError, match=rf"^{type(model).__name__} is not fitted: call fit first$"):
         model.predict(x)
     with pytest.raises(VoxposeError, match="rows"):
         model.fit(x, y[:-1])
@@ -101,3 +101,23 @@ def test_bad_ridge_and_width_raise():
         KernelRidge(ridge=-1.0).fit(x, y)
     with pytest.raises(VoxposeError, match="kernel width"):
         KernelRidge(kernel_width=0.0, ridge=1.0).fit(x, y)
+
+
+@pytest.mark.parametrize("model", [MeanPose(), NearestNeighbour(block=7), KernelRidge(kernel_width=0.8)])
+def test_a_baseline_restored_from_its_arrays_predicts_exactly_as_the_fitted_one(model):
+    x, y = data()
+    model.fit(x, y)
+    restored = type(model).from_arrays(*model.to_arrays())
+    queries = np.random.default_rng(3).uniform(-1, 1, size=(9, 3))
+    np.testing.assert_array_equal(restored.predict(queries), model.predict(queries))
+
+
+def test_an_unfitted_baseline_has_no_arrays():
+    with pytest.raises(NotFittedError, match="NearestNeighbour is not fitted"):
+        NearestNeighbour().to_arrays()
+
+
+def test_kernel_ridge_constructor_is_keyword_only_after_the_kernel_width():
+    assert KernelRidge(0.5).kernel_width == 0.5
+    with pytest.raises(TypeError):
+        KernelRidge(0.5, 0.1)

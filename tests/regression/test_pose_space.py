@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from voxpose.errors import VoxposeError
+from voxpose.errors import NotFittedError, VoxposeError
 from voxpose.regression.pose_space import PosePCA, n_components_for
 
 
@@ -73,11 +73,25 @@ def test_bad_input_raises(data, variance, message):
 
 
 def test_transform_checks_fit_and_width():
-    with pytest.raises(VoxposeError, match="call fit"):
-        PosePCA().transform(np.zeros((2, 42)))
+    unfitted = PosePCA()
+    for use in (unfitted.transform, unfitted.inverse_transform):
+        with pytest.raises(NotFittedError, match=r"^PosePCA is not fitted: call fit first$"):
+            use(np.zeros((2, 42)))
+    with pytest.raises(NotFittedError, match="PosePCA is not fitted"):
+        unfitted.to_arrays()
     data, _ = planted([5, 4, 0.5, 0.5])
     pca = PosePCA().fit(data)
     with pytest.raises(VoxposeError, match="4 columns"):
         pca.transform(np.zeros((2, 5)))
     with pytest.raises(VoxposeError, match="3 columns"):
         pca.inverse_transform(np.zeros((2, 2)))
+
+
+def test_restored_pca_transforms_exactly_like_the_fitted_one():
+    data, _ = planted([10.0, 6.0, 3.0, 1.0, 0.5])
+    pca = PosePCA(0.9).fit(data)
+    restored = PosePCA.from_arrays(*pca.to_arrays())
+    coords = pca.transform(data)
+    np.testing.assert_array_equal(restored.transform(data), coords)
+    np.testing.assert_array_equal(restored.inverse_transform(coords), pca.inverse_transform(coords))
+    assert restored.n_components_ == pca.n_components_ == 3

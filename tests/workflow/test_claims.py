@@ -7,7 +7,7 @@ import pytest
 from tests.helpers import L_RES, ROOT, SPHERE, VOLUME_BOX, exact_hull, walk_motion
 from voxpose import workflow_config as wc
 from voxpose.errors import VoxposeError
-from voxpose.evaluation.run import evaluate, stored_predictors
+from voxpose.evaluation.run import Fit, evaluate
 from voxpose.features.model import FeatureModel
 from voxpose.features.silhouette import fit_codebook, render_contexts, silhouette_features
 from voxpose.regression.mvrvm import MVRVM
@@ -92,7 +92,7 @@ def test_silhouette_features_per_view_and_refused_on_another_camera_count():
 
 
 def test_a_stored_regressor_predicts_what_the_fitted_one_does(tmp_path):
-    from voxpose.io.hdf5 import read_arrays, write_arrays
+    from voxpose.io.hdf5 import write_arrays
 
     rng = np.random.default_rng(1)
     x = rng.normal(size=(30, 5))
@@ -106,7 +106,7 @@ def test_a_stored_regressor_predicts_what_the_fitted_one_does(tmp_path):
                  "relevance_vectors": model.relevance_vectors_, "coef": model.coef_, "relevance": model.relevance_,
                  "alpha": model.alpha_, "beta": model.beta_},
                  {"kernel_width": model.kernel_width_, "has_bias": model.has_bias_})  # fmt: skip
-    predict = stored_predictors(*read_arrays(tmp_path / "r.h5", "regressor"), "angle")
+    predict = Fit.load(tmp_path / "r.h5", heading="angle").predictors()
     expected = pca.inverse_transform(model.predict(x[:7]))
     assert np.allclose(predict["mvrvm"](x[:7])[:, 1:], expected)
     assert np.allclose(predict["mean_pose"](x[:2])[:, 1:], pca.mean_)

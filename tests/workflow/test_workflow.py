@@ -18,6 +18,7 @@ import pytest
 import yaml
 
 from tests.helpers import ROOT
+from voxpose import workflow_config as wc
 
 
 def snakemake(workdir, *args, configfiles=(), check=True):
@@ -87,8 +88,9 @@ def test_quick_run_writes_every_artifact(workflow_dir):
     assert ours["test frames"] == 40  # spiral_gen_01, every frame carved
     paper = t1[t1["source"] == "paper"].iloc[0]
     assert (paper["full body"], paper["body heading angle"]) == (5.2, 8.8)
-    run = workflow_dir / "results/runs/table2/circle6-quick/R0.3333-r2-4x5x10-soft/mppca-K16-q3/summary.json"
-    summary = json.loads(run.read_text())
+    train, test = ([f"{k}_gen_{i}" for k in ("drunk", "jog", "jump", "spiral", "walk")] for i in ("00", "01"))
+    run = f"results/runs/{wc.motion_set_tag(train)}/circle6-quick/R0.3333-r2-4x5x10-soft/mppca-K16-q3"
+    summary = json.loads((workflow_dir / run / f"sets/{wc.motion_set_tag(test)}/summary.json").read_text())
     assert summary["train"] == [f"{k}_gen_00" for k in ("drunk", "jog", "jump", "spiral", "walk")]
     assert set(summary["methods"]) == {"mvrvm", "mean_pose", "nearest_neighbour", "kernel_ridge"}
     assert all(v["per_kind"].keys() == {"drunk", "jog", "jump", "spiral", "walk"} for v in summary["methods"].values())
@@ -243,7 +245,42 @@ def test_an_override_with_every_key_at_its_current_value_schedules_nothing(workf
 # The artifacts at fixed paths (results/tables/table1.csv, ...) show the current config's results: they are
 # rebuilt from cached results (seconds each) when the config changes, and on the way back.
 ARTIFACT_RULES = {"table1", "table2", "figure4", "gallery", "joint_errors", "error_over_time", "camera_figure",
-                  "robustness_figure", "all"}  # fmt: skip
+                  "robustness_figure", "experiment_table", "all"}  # fmt: skip
+
+
+NAMED_SETS = """experiments:
+  heldout:                      # the training set of table2: its fits are shared
+    train: ["*_gen_00"]
+    test:
+      walks: ["walk_gen_01"]
+      others: ["jog_gen_01", "jump_gen_01"]
+      same: ["*_gen_01"]        # table2's test set
+"""
+
+
+def test_experiments_that_differ_in_their_test_sets_share_one_fit(workflow_dir):
+    jobs = scheduled(workflow_dir, _override(workflow_dir, "named", NAMED_SETS))
+    assert not {"fit_features", "regress", "describe", "voxelize"} & set(jobs)  # table2's, cached
+    # two new test sets (`same` is table2's), for the MPPCA and the K-means fit each
+    assert jobs["features"] == 4 and jobs["evaluate"] == 4 and jobs["experiment_table"] == 1
+
+
+def test_named_test_sets_give_one_table_row_per_set_and_method(workflow_dir):
+    named = _override(workflow_dir, "named", NAMED_SETS)
+    snakemake(workflow_dir, "results/tables/experiments/heldout.csv", configfiles=[named])
+    table = pd.read_csv(workflow_dir / "results/tables/experiments/heldout.csv")
+    methods = ["mvrvm", "kmeans", "nearest_neighbour", "kernel_ridge", "mean_pose"]
+    assert list(zip(table["test_set"], table["method"], strict=True)) == [
+        (s, m) for s in ("walks", "others", "same") for m in methods
+    ]
+    frames = table.groupby("test_set")["frames"].first()
+    assert (frames["walks"], frames["others"], frames["same"]) == (40, 80, 200)
+    # the set `same` is table2's test set through the same fit: the same numbers as table2's own table
+    table2 = pd.read_csv(workflow_dir / "results/tables/experiments/table2.csv").drop(columns="test_set")
+    same = table[table["test_set"] == "same"].drop(columns="test_set").reset_index(drop=True)
+    pd.testing.assert_frame_equal(same, table2)
+    measured = pd.read_csv(workflow_dir / "results/tables/table2.csv").iloc[0]
+    assert measured["test frames"] == 200
 
 
 def test_changing_back_after_a_change_recomputes_nothing(workflow_dir):

@@ -15,9 +15,12 @@ from dataclasses import dataclass
 from voxpose.cli import (
     carve,
     claims_figure,
+    data_fetch,
     derive,
     describe,
     error_over_time,
+    evaluate,
+    experiment_table,
     export_model,
     features,
     figure4,
@@ -35,7 +38,6 @@ from voxpose.cli import (
     silhouette_features,
     table1,
     table2,
-    transfer_predict,
     voxelize,
     voxelize_degraded,
 )
@@ -75,9 +77,10 @@ def _of(module) -> tuple[str, Subcommand]:
 
 
 SUBCOMMANDS = dict(
-    map(_of, (generate, derive, motion, rig, voxelize, carve, describe, fit_features, features, regress, table1,
-              table2, figure4, joint_errors, error_over_time, gallery, voxelize_degraded, transfer_predict,
-              silhouette_contexts, fit_silhouette_features, silhouette_features, export_model, predict, render))
+    map(_of, (generate, derive, motion, rig, voxelize, carve, describe, fit_features, features, regress, evaluate,
+              experiment_table, table1, table2, figure4, joint_errors, error_over_time, gallery, voxelize_degraded,
+              silhouette_contexts, fit_silhouette_features, silhouette_features, export_model, predict, render,
+              data_fetch))
 ) | {  # fmt: skip
     "camera-figure": Subcommand("error against camera rig: transferred, retrained, A&T", claims_figure.add_arguments,
                                 claims_figure.run_cameras, claims_figure.__name__),

@@ -1,46 +1,28 @@
-"""``voxpose regress``: pose PCA (Eq. 1) and MVRVM (Section 3) on one experiment; predictions and Eq. 6 errors."""
-
-import json
+"""``voxpose regress``: pose PCA (Eq. 1), MVRVM (Section 3) and the baselines fitted on one training set."""
 
 from voxpose.cli.common import parse_params
 
 NAME = "regress"
-HELP = "pose PCA + MVRVM on an experiment: predictions and errors"
+HELP = "fit pose PCA + MVRVM (and the baselines) on training features"
 
 
 def add_arguments(p):
-    p.add_argument("features", help="per-frame features (HDF5) from `voxpose features`")
-    p.add_argument("motions", nargs="+", help="motion files (HDF5) of the experiment's motions")
+    p.add_argument("features", help="per-frame features (HDF5) of the training motions, from `voxpose features`")
+    p.add_argument("motions", nargs="+", help="motion files (HDF5) of the training motions")
     p.add_argument("--train", required=True, help="comma-separated training motion names")
-    p.add_argument("--test", required=True, help="comma-separated test motion names")
     p.add_argument("--params", required=True, help="JSON: the config's `regression` section")
     p.add_argument("--seed", type=int, default=0)
-    for name in ("model", "predictions", "angles", "summary"):
-        p.add_argument(f"--{name}", required=True, help=f"output: {name}")
+    p.add_argument("--regressor", required=True, help="output: pose PCA and MVRVM (HDF5)")
+    p.add_argument("--baselines", required=True, help="output: mean pose, nearest neighbour, kernel ridge (HDF5)")
+    p.add_argument("--fit", required=True, help="output: what the fit measured (JSON)")
 
 
 def run(args):
-    import pandas as pd
-
-    from voxpose.evaluation.run import run
-    from voxpose.io.atomic import atomic_path
-    from voxpose.io.hdf5 import read_per_motion, write_arrays, write_per_motion
-    from voxpose.motion import canon
+    from voxpose.evaluation.run import fit
+    from voxpose.io.hdf5 import read_per_motion
     from voxpose.motion.data import read_motion
-    from voxpose.regression.stored import regressor_arrays
 
     features, _ = read_per_motion(args.features, "features")
     motions = {m.name: m for m in map(read_motion, args.motions)}
-    result = run(features, motions, args.train.split(","), args.test.split(","), parse_params(args.params), args.seed)
-    write_arrays(args.model, "regressor", *regressor_arrays(result.pca, result.mvrvm))
-    write_per_motion(args.predictions, "predictions", result.predictions, {"summary": result.summary})
-    frames = []
-    for name, p in result.predictions.items():
-        df = pd.DataFrame(p["pred_mvrvm"], columns=canon.ANGLE_NAMES)
-        df.insert(0, "frame", range(len(df)))
-        df.insert(0, "motion", name)
-        frames.append(df)
-    with atomic_path(args.angles) as tmp:
-        pd.concat(frames).to_csv(tmp, index=False, float_format="%.4f")
-    with atomic_path(args.summary) as tmp:
-        tmp.write_text(json.dumps(result.summary, indent=1))
+    fitted = fit(features, motions, args.train.split(","), parse_params(args.params), args.seed)
+    fitted.save(args.regressor, args.baselines, args.fit)

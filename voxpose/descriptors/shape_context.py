@@ -56,6 +56,7 @@ from functools import cached_property
 import numpy as np
 
 from voxpose.errors import VoxposeError
+from voxpose.validation import integer, positive_number
 
 SNAP = 1e-9
 """Offsets and bin coordinates this close to an integer (soft: bin centres, too) are snapped to it."""
@@ -68,22 +69,6 @@ def _snap(values: np.ndarray) -> np.ndarray:
     """Snap values within ``SNAP`` of an integer onto it; ``+ 0.0`` also turns -0.0 into +0.0."""
     nearest = np.rint(values)
     return np.where(np.abs(values - nearest) <= SNAP, nearest, values) + 0.0
-
-
-def _positive(name: str, value) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise VoxposeError(f"shape context: {name} must be a number, got {value!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise VoxposeError(f"shape context: {name} must be positive and finite, got {value!r}")
-    return value
-
-
-def _count(name: str, value) -> int:
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-        raise VoxposeError(f"shape context: {name} must be an integer >= 1, got {value!r}")
-    return int(value)
 
 
 @dataclass(frozen=True)
@@ -108,9 +93,9 @@ class BinGeometry:
 
     def __post_init__(self):
         for name in ("n_r", "n_e", "n_a"):
-            object.__setattr__(self, name, _count(name, getattr(self, name)))
-        object.__setattr__(self, "r_min", _positive("r_min", self.r_min))
-        object.__setattr__(self, "r_max", _positive("r_max", self.r_max))
+            object.__setattr__(self, name, integer(getattr(self, name), f"shape context: {name}"))
+        object.__setattr__(self, "r_min", positive_number(self.r_min, "shape context: r_min"))
+        object.__setattr__(self, "r_max", positive_number(self.r_max, "shape context: r_max"))
         if self.r_min >= self.r_max:
             raise VoxposeError(
                 f"shape context: R_min = r_min * l_res ({self.r_min:g} voxels) must be smaller than "
@@ -123,8 +108,8 @@ class BinGeometry:
 
         ``h_sub_voxels`` is the subject height in voxels, ``h_sub / l_res`` (60 in the paper).
         """
-        h_sub_voxels = _positive("h_sub / l_res", h_sub_voxels)
-        r_max = _positive("r_max", r_max)
+        h_sub_voxels = positive_number(h_sub_voxels, "shape context: h_sub / l_res")
+        r_max = positive_number(r_max, "shape context: r_max")
         return cls(n_r=n_r, n_e=n_e, n_a=n_a, r_min=r_min, r_max=r_max * h_sub_voxels)
 
     @property
@@ -297,8 +282,8 @@ def shape_contexts(
     (M, n_r * n_e * n_a) float64 array
         Descriptor ``m`` at ``centres[m]``, bin ``(i_r * n_e + i_e) * n_a + i_a``.
     """
-    l_res = _positive("l_res", l_res)
-    h_sub = _positive("h_sub", h_sub)
+    l_res = positive_number(l_res, "shape context: l_res")
+    h_sub = positive_number(h_sub, "shape context: h_sub")
     geometry = BinGeometry.from_params(h_sub_voxels=h_sub / l_res, n_r=n_r, n_e=n_e, n_a=n_a, r_min=r_min, r_max=r_max)
     points = _as_points("points", points)
     centres = _as_points("centres", centres)

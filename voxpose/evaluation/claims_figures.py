@@ -1,7 +1,6 @@
 """The two figures of the measured claims (issue 8): error against camera rig, error against degradation.
 
-Runs arrive as JSON lists of objects naming a run summary (``summary.json`` of ``voxpose regress`` or
-``voxpose predict``):
+Runs arrive as JSON lists of objects naming a run summary (``summary.json`` of ``voxpose evaluate``):
 
 - camera rigs: ``{"rig", "cameras", "series", "summary"}``; ``summary`` null where the series has no features
   on that rig (the A&T multi-view regressor on a rig with another number of cameras);

@@ -11,30 +11,26 @@ Reference baselines in the same evaluation show what the sparse Bayesian regress
 pose, the nearest training frame in feature space, and kernel ridge regression with the MVRVM's kernel.
 """
 
+import json
 import logging
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
 from voxpose.errors import VoxposeError
 from voxpose.evaluation import metrics
+from voxpose.io.atomic import atomic_path
+from voxpose.io.hdf5 import read_arrays, read_groups, write_arrays, write_groups
 from voxpose.motion import canon
 from voxpose.regression import pose_encoding
 from voxpose.regression.baselines import KernelRidge, MeanPose, NearestNeighbour
 from voxpose.regression.mvrvm import MVRVM, select_kernel_width
 from voxpose.regression.pose_space import PosePCA
+from voxpose.regression.stored import regressor_arrays, regressor_from_arrays
 
 log = logging.getLogger(__name__)
 
-METHODS = ("mvrvm", "mean_pose", "nearest_neighbour", "kernel_ridge")
-
-
-@dataclass
-class RunResult:
-    pca: PosePCA
-    mvrvm: MVRVM
-    predictions: dict  # motion -> {"true", "valid", "offsets", "root_positions", "pred_<method>", ...}
-    summary: dict
 
 
 def thin_frames(valid: list, max_frames: int | None) -> list:
@@ -130,8 +126,79 @@ def evaluate(predict: dict, features: dict, motions: dict, test: list):
     }
 
 
-def run(features: dict, motions: dict, train: list, test: list, cfg: dict, seed: int) -> RunResult:
-    """Fit on ``train`` motions and evaluate on ``test`` motions.
+@dataclass
+class Fit:
+    """A regressor fitted on one training set: pose PCA, MVRVM, the baselines and what the fit measured.
+
+    One fit serves every test set of every experiment with the same training motions and settings
+    (``test``); ``save``/``load`` keep it in three files: the regressor (``voxpose.regression.stored``, the
+    layout the model file and the claims also read), the baselines and the fit's summary (JSON).
+    """
+
+    pca: PosePCA
+    mvrvm: MVRVM
+    heading: str
+    summary: dict
+    baselines: dict = field(default_factory=dict)  # name -> fitted baseline; empty: the PCA mean stands in
+
+    def predictors(self) -> dict:
+        """Method -> function from features (n, K) to the 42 angles (n, 42): the MVRVM and the baselines."""
+        pca, heading = self.pca, self.heading
+        out = {"mvrvm": _in_pose_space(pca, self.mvrvm, heading)}
+        if not self.baselines:  # a regressor without its baselines: the mean pose is the PCA mean
+            out["mean_pose"] = lambda x: pose_encoding.decode(np.broadcast_to(pca.mean_, (len(x), pca.mean_.size)),
+                                                              heading)  # fmt: skip
+            return out
+        for name, model in self.baselines.items():
+            if name == "kernel_ridge":  # regresses the pose-PCA coordinates, as the MVRVM does
+                out[name] = _in_pose_space(pca, model, heading)
+            else:
+                out[name] = lambda x, model=model: pose_encoding.decode(model.predict(x), heading)
+        return out
+
+    def test(self, features: dict, motions: dict, test: list) -> tuple[dict, dict]:
+        """Predictions and errors of every method on the ``test`` motions (``evaluate``); the summary also
+        holds the fit's own (training frames, M, relevance vectors, kernel width, convergence)."""
+        predictions, test_summary = evaluate(self.predictors(), features, motions, test)
+        summary = self.summary | {"test": test} | test_summary
+        for m, e in summary["methods"].items():
+            log.info("%s: full body %.2f deg, heading %.2f, left shoulder %.2f, right hip %.2f, %.0f mm", m,
+                     e["full_body"], e["heading"], e["left_shoulder"], e["right_hip"], e["position_mm"])  # fmt: skip
+        return predictions, summary
+
+    def save(self, regressor, baselines, summary) -> None:
+        """Write the regressor, the baselines and the fit's summary, each atomically."""
+        write_arrays(regressor, "regressor", *regressor_arrays(self.pca, self.mvrvm))
+        groups = {name: model.to_arrays() for name, model in self.baselines.items()}
+        write_groups(baselines, "baselines", groups, {"heading": self.heading})
+        with atomic_path(summary) as tmp:
+            tmp.write_text(json.dumps(self.summary | {"heading": self.heading}, indent=1))
+
+    @classmethod
+    def load(cls, regressor, baselines=None, summary=None, heading: str | None = None) -> "Fit":
+        """A saved fit; without ``baselines`` only the MVRVM and the PCA-mean pose predict (a regressor
+        file alone, as the model file holds it), and ``heading`` must then be given."""
+        pca, mvrvm = regressor_from_arrays(*read_arrays(regressor, "regressor"))
+        fit_summary = json.loads(Path(summary).read_text()) if summary else {}
+        models = {}
+        if baselines:
+            groups, meta = read_groups(baselines, "baselines")
+            models = {name: cls_.from_arrays(*groups[name]) for name, cls_ in BASELINES.items() if name in groups}
+            heading = meta["heading"]
+        if heading is None:
+            heading = fit_summary.pop("heading", None)
+        if heading is None:
+            raise VoxposeError(f"{regressor}: the heading encoding is unknown (give the fit's summary or baselines)")
+        fit_summary.pop("heading", None)
+        return cls(pca, mvrvm, heading, fit_summary, models)
+
+
+BASELINES = {"mean_pose": MeanPose, "nearest_neighbour": NearestNeighbour, "kernel_ridge": KernelRidge}
+
+
+def fit(features: dict, motions: dict, train: list, cfg: dict, seed: int) -> Fit:
+    """Fit the pose PCA (Eq. 1), the MVRVM (Section 3, kernel width chosen on held-out training motions) and
+    the baselines on the ``train`` motions' frames that have features.
 
     ``features``: motion -> {"features": (F, K), "counts": (F,)}; ``motions``: motion -> MotionData;
     ``cfg``: the config's ``regression`` section.
@@ -168,19 +235,9 @@ def run(features: dict, motions: dict, train: list, test: list, cfg: dict, seed:
         "kernel_ridge": KernelRidge(kernel_width=model.kernel_width_, random_state=seed).fit(x_train, z_train),
     }
 
-    predict = {
-        "mvrvm": _in_pose_space(pca, model, heading),
-        "mean_pose": lambda x: pose_encoding.decode(baselines["mean_pose"].predict(x), heading),
-        "nearest_neighbour": lambda x: pose_encoding.decode(baselines["nearest_neighbour"].predict(x), heading),
-        "kernel_ridge": _in_pose_space(pca, baselines["kernel_ridge"], heading),
-    }
-    predictions, test_summary = evaluate(predict, features, motions, test)
     summary = {
         "train": train,
-        "test": test,
         "train_frames": len(x_train),
-        "test_frames": test_summary["test_frames"],
-        "test_gaps": test_summary["test_gaps"],
         "pose_dims": int(pca.n_components_),
         "pose_variance": float(pca.explained_variance_ratio_.sum()),
         "n_relevance": len(model.relevance_),
@@ -191,30 +248,8 @@ def run(features: dict, motions: dict, train: list, test: list, cfg: dict, seed:
             "converged": bool(model.converged_),
             "noise_std": (1 / np.sqrt(model.beta_)).tolist(),
         },  # fmt: skip
-        "methods": test_summary["methods"],
     }
-    for m in METHODS:
-        log.info("%s: full body %.2f deg, heading %.2f, left shoulder %.2f, right hip %.2f, %.0f mm", m,
-                 *(summary["methods"][m][k] for k in ("full_body", "heading", "left_shoulder", "right_hip",
-                                                      "position_mm")))  # fmt: skip
-    return RunResult(pca, model, predictions, summary)
-
-
-def stored_predictors(arrays: dict, meta: dict, heading: str) -> dict:
-    """MVRVM and mean-pose predictors (as in ``evaluate``) of a regressor file written by ``voxpose regress``.
-
-    The pose PCA and MVRVM are rebuilt by ``regression.stored.regressor_from_arrays``; the mean pose is the PCA
-    mean. Lets one trained regressor be tested on features from other camera rigs or degraded silhouettes
-    without retraining.
-    """
-    from voxpose.regression.stored import regressor_from_arrays
-
-    pca, model = regressor_from_arrays(arrays, meta)
-
-    def mean_pose(x):
-        return pose_encoding.decode(np.broadcast_to(pca.mean_, (len(x), pca.mean_.size)), heading)
-
-    return {"mvrvm": _in_pose_space(pca, model, heading), "mean_pose": mean_pose}
+    return Fit(pca, model, heading, summary, baselines)
 
 
 def _in_pose_space(pca: PosePCA, regressor, heading: str):

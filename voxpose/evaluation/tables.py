@@ -10,6 +10,7 @@ import pandas as pd
 
 from voxpose.errors import VoxposeError
 from voxpose.io.atomic import atomic_path
+from voxpose.motion import canon
 
 # Table 1 of the paper: RMS error over 418 frames of spiral walking.
 PAPER_TABLE1 = {
@@ -99,6 +100,26 @@ def table2(summary: dict) -> pd.DataFrame:
     return pd.DataFrame([measured, paper])
 
 
+# The per-experiment table: one row per (test set, method). ``mvrvm`` is the paper's pipeline (MPPCA features,
+# Eq. 5, and the MVRVM); ``kmeans`` the K-means histogram with the MVRVM; the other three are the baselines of
+# the MPPCA run (``voxpose.evaluation.run``): the same features, another regressor.
+EXPERIMENT_METHODS = ("mvrvm", "kmeans", "nearest_neighbour", "kernel_ridge", "mean_pose")
+
+
+def experiment_table(test_sets: dict) -> pd.DataFrame:
+    """``test_sets``: set name -> (MPPCA summary, K-means summary). Columns: test_set, method, frames, full_body,
+    heading, left_shoulder, right_hip (degrees, Eq. 6), mpjpe_mm (mean joint position error, millimetres)."""
+    rows = []
+    for name, (mppca, kmeans) in test_sets.items():
+        for method in EXPERIMENT_METHODS:
+            summary, key = (kmeans, "mvrvm") if method == "kmeans" else (mppca, method)
+            e = summary["methods"][key]
+            rows.append({"test_set": name, "method": method, "frames": summary["test_frames"],
+                         "full_body": e["full_body"], "heading": e["heading"], "left_shoulder": e["left_shoulder"],
+                         "right_hip": e["right_hip"], "mpjpe_mm": e["position_mm"]})  # fmt: skip
+    return pd.DataFrame(rows)
+
+
 def write_table(df: pd.DataFrame, csv_path, md_path, title: str) -> None:
     """CSV (full precision) and Markdown (one decimal) side by side, both written atomically."""
     with atomic_path(csv_path) as tmp:
@@ -118,3 +139,15 @@ def _markdown(df: pd.DataFrame) -> str:
     rule = "|" + "|".join("---" for _ in df.columns) + "|"
     body = ["| " + " | ".join(cell(v) for v in row) + " |" for row in df.itertuples(index=False)]
     return "\n".join([header, rule, *body])
+
+
+def write_angles(predictions: dict, path) -> None:
+    """The MVRVM's predicted angles of every test frame (degrees; NaN at gaps) as CSV: motion, frame, 42 angles."""
+    frames = []
+    for name, p in predictions.items():
+        df = pd.DataFrame(p["pred_mvrvm"], columns=canon.ANGLE_NAMES)
+        df.insert(0, "frame", range(len(df)))
+        df.insert(0, "motion", name)
+        frames.append(df)
+    with atomic_path(path) as tmp:
+        pd.concat(frames).to_csv(tmp, index=False, float_format="%.4f")

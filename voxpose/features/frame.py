@@ -19,22 +19,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from voxpose.errors import VoxposeError
-from voxpose.features.kmeans import (
-    DEFAULT_CHUNK_SIZE,
-    check_chunk_size,
-    check_rows,
-    group_sums,
-    nearest_centres,
-    squared_distances,
-)
+from voxpose.features.kmeans import DEFAULT_CHUNK_SIZE, group_sums, nearest_centres
+from voxpose.validation import as_rows, check_fitted, integer, positive_number, squared_distances
 
 log = logging.getLogger(__name__)
 
 
 def _check_frames(frame_index, n_rows, n_frames):
     """Validate ``frame_index`` (n_rows,) against ``n_frames``; return it as an intp array."""
-    if isinstance(n_frames, bool) or not isinstance(n_frames, int | np.integer) or n_frames < 1:
-        raise VoxposeError(f"n_frames must be a positive integer, got {n_frames!r}")
+    integer(n_frames, "n_frames")
     frame_index = np.asarray(frame_index)
     if frame_index.ndim != 1 or frame_index.shape[0] != n_rows:
         raise VoxposeError(
@@ -93,11 +86,10 @@ def mppca_features(model, descriptors, frame_index, n_frames, *, chunk_size=DEFA
     counts : ndarray of int, shape (n_frames,)
         ``N_sc``, the number of descriptors of each frame (0 marks a gap).
     """
-    if not hasattr(model, "components_"):
-        raise VoxposeError("the MPPCA model is not fitted: call fit() first")
-    descriptors = check_rows(descriptors, "descriptors", model.n_features_in_)
+    check_fitted(model, "components_")
+    descriptors = as_rows(descriptors, "descriptors", model.n_features_in_, dtype=None)
     frame_index = _check_frames(frame_index, descriptors.shape[0], n_frames)
-    chunk = check_chunk_size(chunk_size)
+    chunk = integer(chunk_size, "chunk_size")
     return _frame_average(model.predict_proba, descriptors, frame_index, n_frames, model.weights_.shape[0], chunk)
 
 
@@ -121,12 +113,8 @@ class SoftVoteRule:
     bandwidth: float
 
     def __post_init__(self):
-        if isinstance(self.n_nearest, bool) or not isinstance(self.n_nearest, int | np.integer):
-            raise VoxposeError(f"n_nearest must be an integer, got {self.n_nearest!r}")
-        if self.n_nearest < 1:
-            raise VoxposeError(f"n_nearest must be at least 1, got {self.n_nearest}")
-        if not np.isfinite(self.bandwidth) or self.bandwidth <= 0:
-            raise VoxposeError(f"bandwidth must be a positive number, got {self.bandwidth!r}")
+        integer(self.n_nearest, "n_nearest")
+        positive_number(self.bandwidth, "bandwidth")
 
     @classmethod
     def from_training(cls, centres, descriptors, *, n_nearest=3, bandwidth_scale=1.0, chunk_size=DEFAULT_CHUNK_SIZE):
@@ -135,9 +123,9 @@ class SoftVoteRule:
 
         ``centres`` (K, d), ``descriptors`` (N, d): the training descriptors the centres were fitted on.
         """
-        centres = check_rows(centres, "k-means centres")
-        descriptors = check_rows(descriptors, "training descriptors", centres.shape[1])
-        sqdist = nearest_centres(descriptors, centres.astype(np.float64), check_chunk_size(chunk_size))[1]
+        centres = as_rows(centres, "k-means centres")
+        descriptors = as_rows(descriptors, "training descriptors", centres.shape[1], dtype=None)
+        sqdist = nearest_centres(descriptors, centres, integer(chunk_size, "chunk_size"))[1]
         mean_distance = float(np.sqrt(sqdist).mean())
         if mean_distance <= 0.0:
             raise VoxposeError("every training descriptor coincides with a centre: no soft-vote width can be set")
@@ -178,10 +166,10 @@ def kmeans_features(centres, descriptors, frame_index, n_frames, *, rule, chunk_
     counts : ndarray of int, shape (n_frames,)
         Number of descriptors of each frame (0 marks a gap).
     """
-    centres = np.asarray(check_rows(centres, "k-means centres"), dtype=np.float64)
-    descriptors = check_rows(descriptors, "descriptors", centres.shape[1])
+    centres = as_rows(centres, "k-means centres")
+    descriptors = as_rows(descriptors, "descriptors", centres.shape[1], dtype=None)
     frame_index = _check_frames(frame_index, descriptors.shape[0], n_frames)
-    chunk = check_chunk_size(chunk_size)
+    chunk = integer(chunk_size, "chunk_size")
     return _frame_average(
         lambda rows: rule.votes(rows, centres), descriptors, frame_index, n_frames, centres.shape[0], chunk
     )

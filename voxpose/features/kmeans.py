@@ -5,74 +5,22 @@ K-means feature baseline of Sun et al. (2006), Table 1 third row, which follows
 Agarwal & Triggs (2004) in clustering all training descriptors. Memory stays O(n_clusters * d) plus one chunk
 of rows and O(n_samples) labels, so half a million 200-d descriptors cluster in well under a GiB beyond ``X``.
 
-The helpers :func:`check_rows`, :func:`squared_distances` and :func:`group_sums` are shared with
+The helpers :func:`group_sums`, :func:`nearest_centres` and :func:`mean_feature_variance` are shared with
 :mod:`voxpose.features.mppca` and :mod:`voxpose.features.frame`.
 """
 
 import logging
+import warnings
 
 import numpy as np
 import scipy.sparse
 
-from voxpose.errors import VoxposeError
+from voxpose.errors import ConvergenceWarning, VoxposeError
+from voxpose.validation import as_rows, check_fitted, integer, squared_distances
 
 log = logging.getLogger(__name__)
 
 DEFAULT_CHUNK_SIZE = 4096
-
-
-def check_rows(X, name, n_features=None):
-    """Validate a 2-D array of finite real rows and return it as an ndarray (no copy when possible).
-
-    Parameters
-    ----------
-    X : array_like, shape (n_samples, n_features)
-    name : str
-        What the rows are, for the error message (e.g. ``"descriptors"``).
-    n_features : int, optional
-        Required number of columns (the fitted model's dimension).
-
-    Raises
-    ------
-    VoxposeError
-        If ``X`` is not 2-D real-valued, has no rows, the wrong number of columns, or a NaN/infinite entry
-        (the message names the first bad row).
-    """
-    X = np.asarray(X)
-    if X.ndim != 2:
-        raise VoxposeError(f"{name} must be a 2-D array (rows x features), got shape {X.shape}")
-    if not (np.issubdtype(X.dtype, np.floating) or np.issubdtype(X.dtype, np.integer)):
-        raise VoxposeError(f"{name} must hold real numbers, got dtype {X.dtype}")
-    if X.shape[0] == 0:
-        raise VoxposeError(f"{name} has no rows")
-    if n_features is not None and X.shape[1] != n_features:
-        raise VoxposeError(f"{name} has {X.shape[1]} features per row, the model was fitted with {n_features}")
-    if np.issubdtype(X.dtype, np.floating):
-        for start in range(0, X.shape[0], DEFAULT_CHUNK_SIZE):
-            bad = ~np.isfinite(X[start : start + DEFAULT_CHUNK_SIZE]).all(axis=1)
-            if bad.any():
-                row = start + int(np.argmax(bad))
-                raise VoxposeError(f"{name} row {row} contains NaN or infinite values")
-    return X
-
-
-def check_chunk_size(chunk_size):
-    """Return ``chunk_size`` as a positive int or raise :class:`VoxposeError`."""
-    if isinstance(chunk_size, bool) or not isinstance(chunk_size, int | np.integer) or chunk_size < 1:
-        raise VoxposeError(f"chunk_size must be a positive integer, got {chunk_size!r}")
-    return int(chunk_size)
-
-
-def squared_distances(X, centres, centres_sq=None):
-    """Squared Euclidean distances between rows and centres, shape (n, K), in float64.
-
-    Uses ``|x|^2 - 2 x.c + |c|^2`` (one matrix product) and clips the round-off negatives at zero.
-    """
-    X = np.asarray(X, dtype=np.float64)
-    if centres_sq is None:
-        centres_sq = np.einsum("kd,kd->k", centres, centres)
-    d2 = np.einsum("nd,nd->n", X, X)[:, None] - 2.0 * (X @ centres.T) + centres_sq[None, :]
-    return np.maximum(d2, 0.0, out=d2)
 
 
 def group_sums(index, values, n_groups):
@@ -87,11 +35,10 @@ def group_sums(index, values, n_groups):
 
 def nearest_centres(X, centres, chunk_size=DEFAULT_CHUNK_SIZE):
     """Index of and squared distance to the nearest centre for every row of ``X``: (n,) int, (n,) float64."""
-    centres_sq = np.einsum("kd,kd->k", centres, centres)
     labels = np.empty(X.shape[0], dtype=np.intp)
     sqdist = np.empty(X.shape[0])
     for start in range(0, X.shape[0], chunk_size):
-        d2 = squared_distances(X[start : start + chunk_size], centres, centres_sq)
+        d2 = squared_distances(X[start : start + chunk_size], centres)
         labels[start : start + len(d2)] = np.argmin(d2, axis=1)
         sqdist[start : start + len(d2)] = d2[np.arange(len(d2)), labels[start : start + len(d2)]]
     return labels, sqdist
@@ -183,19 +130,17 @@ class KMeans:
         self.random_state = random_state
 
     def _check_params(self, n_samples):
-        if isinstance(self.n_clusters, bool) or not isinstance(self.n_clusters, int | np.integer):
-            raise VoxposeError(f"n_clusters must be an integer, got {self.n_clusters!r}")
-        if not 1 <= self.n_clusters <= n_samples:
+        """Validate the hyper-parameters against the number of rows; return the chunk size."""
+        if integer(self.n_clusters, "n_clusters") > n_samples:
             raise VoxposeError(f"n_clusters={self.n_clusters} needs between 1 and n_samples={n_samples} clusters")
-        if isinstance(self.max_iter, bool) or not isinstance(self.max_iter, int | np.integer) or self.max_iter < 1:
-            raise VoxposeError(f"max_iter must be a positive integer, got {self.max_iter!r}")
+        integer(self.max_iter, "max_iter")
         if not np.isfinite(self.tol) or self.tol < 0:
             raise VoxposeError(f"tol must be a non-negative number, got {self.tol!r}")
-        return check_chunk_size(self.chunk_size)
+        return integer(self.chunk_size, "chunk_size")
 
     def fit(self, X):
         """Cluster the rows of ``X`` (n_samples, d); returns ``self``."""
-        X = check_rows(X, "k-means input")
+        X = as_rows(X, "k-means input", dtype=None)
         chunk = self._check_params(X.shape[0])
         rng = np.random.default_rng(self.random_state)
         threshold = self.tol * mean_feature_variance(X, chunk)
@@ -225,6 +170,10 @@ class KMeans:
         self.cluster_centers_ = centres
         self.labels_, sqdist = nearest_centres(X, centres, chunk)
         self.inertia_ = float(sqdist.sum())
+        if not self.converged_:
+            warnings.warn(
+                f"KMeans: no convergence in {self.n_iter_} iterations (tol {self.tol:g})", ConvergenceWarning, 2
+            )
         log.info(
             "k-means: %d clusters, %d iterations (converged: %s), inertia %.6g",
             self.n_clusters,
@@ -234,9 +183,23 @@ class KMeans:
         )
         return self
 
+    def to_arrays(self) -> tuple[dict, dict]:
+        """The fitted centres and fit record as (arrays, meta); ``from_arrays`` inverts it (``labels_``, one per
+        training row, is not kept)."""
+        check_fitted(self, "cluster_centers_")
+        return {"centres": self.cluster_centers_}, {"inertia": self.inertia_, "n_iter": self.n_iter_,
+                                                    "converged": self.converged_}  # fmt: skip
+
+    @classmethod
+    def from_arrays(cls, arrays: dict, meta: dict) -> "KMeans":
+        """The KMeans that ``to_arrays`` recorded, fitted: it predicts as the original did."""
+        model = cls(len(arrays["centres"]))
+        model.cluster_centers_ = arrays["centres"]
+        model.inertia_, model.n_iter_, model.converged_ = meta["inertia"], meta["n_iter"], meta["converged"]
+        return model
+
     def predict(self, X):
         """Nearest-centre index of each row of ``X`` (n, d): shape (n,)."""
-        if not hasattr(self, "cluster_centers_"):
-            raise VoxposeError("KMeans is not fitted yet: call fit() first")
-        X = check_rows(X, "k-means input", self.cluster_centers_.shape[1])
-        return nearest_centres(X, self.cluster_centers_, check_chunk_size(self.chunk_size))[0]
+        check_fitted(self, "cluster_centers_")
+        X = as_rows(X, "k-means input", self.cluster_centers_.shape[1], dtype=None)
+        return nearest_centres(X, self.cluster_centers_, integer(self.chunk_size, "chunk_size"))[0]

@@ -60,13 +60,11 @@ class FeatureModel:
                 cfg["n_components"], n_latent=cfg["n_latent"], max_iter=cfg["max_iter"], tol=cfg["tol"],
                 random_state=seed,
             ).fit(rows)  # fmt: skip
-            meta |= {"log_likelihood": model.log_likelihood_, "n_iter": model.n_iter_,
-                     "converged": model.converged_, "n_reseeded": model.n_reseeded_}  # fmt: skip
-            return cls(method, model, None, meta)
-        model = KMeans(cfg["n_components"], max_iter=cfg["max_iter"], random_state=seed).fit(rows)
-        rule = SoftVoteRule.from_training(model.cluster_centers_, rows, n_nearest=cfg["kmeans_neighbours"])
-        meta |= {"inertia": model.inertia_, "n_iter": model.n_iter_, "converged": model.converged_}
-        return cls(method, model, rule, meta)
+            rule = None
+        else:
+            model = KMeans(cfg["n_components"], max_iter=cfg["max_iter"], random_state=seed).fit(rows)
+            rule = SoftVoteRule.from_training(model.cluster_centers_, rows, n_nearest=cfg["kmeans_neighbours"])
+        return cls(method, model, rule, meta | model.to_arrays()[1])
 
     def transform(self, descriptors: np.ndarray, frame_index: np.ndarray, n_frames: int):
         """-> (features (n_frames, K), counts (n_frames,)); frames without descriptors get NaN rows."""
@@ -75,28 +73,17 @@ class FeatureModel:
         return kmeans_features(self.estimator.cluster_centers_, descriptors, frame_index, n_frames, rule=self.rule)
 
     def to_arrays(self) -> tuple[dict, dict]:
-        """(arrays, meta) that ``from_arrays`` turns back into this model (the model file's contents)."""
-        if self.method == "mppca":
-            m = self.estimator
-            arrays = {"weights": m.weights_, "means": m.means_, "components": m.components_,
-                      "noise_variance": m.noise_variance_}  # fmt: skip
-            return arrays, self.meta | {"noise_variance_floor": m.noise_variance_floor_}
-        arrays = {"centres": self.estimator.cluster_centers_}
-        return arrays, self.meta | {"n_nearest": self.rule.n_nearest, "bandwidth": self.rule.bandwidth}
+        """(arrays, meta) that ``from_arrays`` turns back into this model (the model file's contents): the
+        estimator's arrays, and ``meta`` (the estimator's fit record among it) with the soft-vote rule."""
+        rule = {} if self.rule is None else {"n_nearest": self.rule.n_nearest, "bandwidth": self.rule.bandwidth}
+        return self.estimator.to_arrays()[0], self.meta | rule
 
     @classmethod
     def from_arrays(cls, arrays: dict, meta: dict) -> "FeatureModel":
-        method, cfg = meta["method"], meta["params"]
+        method = meta["method"]
         if method == "mppca":
-            model = MPPCA(cfg["n_components"], n_latent=cfg["n_latent"])
-            model.weights_, model.means_ = arrays["weights"], arrays["means"]
-            model.components_, model.noise_variance_ = arrays["components"], arrays["noise_variance"]
-            model.noise_variance_floor_ = meta["noise_variance_floor"]
-            model.n_features_in_ = model.means_.shape[1]
-            return cls(method, model, None, meta)
-        model = KMeans(cfg["n_components"])
-        model.cluster_centers_ = arrays["centres"]
-        return cls(method, model, SoftVoteRule(meta["n_nearest"], meta["bandwidth"]), meta)
+            return cls(method, MPPCA.from_arrays(arrays, meta), None, meta)
+        return cls(method, KMeans.from_arrays(arrays, meta), SoftVoteRule(meta["n_nearest"], meta["bandwidth"]), meta)
 
     def save(self, path) -> None:
         write_arrays(path, "feature-model", *self.to_arrays())

@@ -15,14 +15,16 @@ cancellation in ``|t|^2 - 2 t.mu + |mu|^2``.
 """
 
 import logging
+import warnings
 from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg
 import scipy.sparse
 
-from voxpose.errors import VoxposeError
-from voxpose.features.kmeans import DEFAULT_CHUNK_SIZE, KMeans, check_chunk_size, check_rows, mean_feature_variance
+from voxpose.errors import ConvergenceWarning, VoxposeError
+from voxpose.features.kmeans import DEFAULT_CHUNK_SIZE, KMeans, mean_feature_variance
+from voxpose.validation import as_rows, check_fitted, integer
 
 log = logging.getLogger(__name__)
 
@@ -298,10 +300,6 @@ def _initialise(X, n_components, n_latent, chunk_size, rng):
     return _Params(counts / n_samples, means, components, noise), starved
 
 
-def _is_int(value):
-    return isinstance(value, int | np.integer) and not isinstance(value, bool)
-
-
 class MPPCA:
     """Mixture of probabilistic PCA (Tipping & Bishop 1999) fitted by EM, as in Sun et al. (2006), Sec. 5.
 
@@ -393,9 +391,8 @@ class MPPCA:
 
     def _check_params(self, n_samples, n_features):
         """Validate the hyper-parameters against the data shape; return the chunk size."""
-        if not _is_int(self.n_components) or self.n_components < 1:
-            raise VoxposeError(f"n_components must be a positive integer, got {self.n_components!r}")
-        if not _is_int(self.n_latent) or not 0 <= self.n_latent < n_features:
+        integer(self.n_components, "n_components")
+        if integer(self.n_latent, "n_latent", minimum=0) >= n_features:
             raise VoxposeError(
                 f"n_latent must be an integer with 0 <= n_latent < {n_features} (the data dimension), "
                 f"got {self.n_latent!r}"
@@ -406,19 +403,18 @@ class MPPCA:
                 f"MPPCA with {self.n_components} components of latent dimension {self.n_latent} needs at "
                 f"least {needed} rows (q + 1 per component), got {n_samples}"
             )
-        if not _is_int(self.max_iter) or self.max_iter < 0:
-            raise VoxposeError(f"max_iter must be a non-negative integer, got {self.max_iter!r}")
+        integer(self.max_iter, "max_iter", minimum=0)
         if not np.isfinite(self.tol) or self.tol < 0:
             raise VoxposeError(f"tol must be a non-negative number, got {self.tol!r}")
         if self.init != "kmeans":
             raise VoxposeError(f"init must be 'kmeans', got {self.init!r}")
         if not np.isfinite(self.min_noise_variance) or self.min_noise_variance <= 0:
             raise VoxposeError(f"min_noise_variance must be a positive number, got {self.min_noise_variance!r}")
-        return check_chunk_size(self.chunk_size)
+        return integer(self.chunk_size, "chunk_size")
 
     def fit(self, X):
         """Fit the mixture to the rows of ``X`` (n_samples, d) by EM; returns ``self``."""
-        X = check_rows(X, "MPPCA training data")
+        X = as_rows(X, "MPPCA training data", dtype=None)
         n_samples, n_features = X.shape
         chunk = self._check_params(n_samples, n_features)
         rng = np.random.default_rng(self.random_state)
@@ -471,6 +467,8 @@ class MPPCA:
         self.converged_ = converged
         self.n_reseeded_ = n_reseeded
         self.n_features_in_ = n_features
+        if not converged and self.max_iter > 0:
+            warnings.warn(f"MPPCA: no convergence in {n_iter} EM iterations (tol {self.tol:g})", ConvergenceWarning, 2)
         log.info(
             "MPPCA: %d EM iterations, converged: %s, %d components re-seeded, mean log-likelihood %.6f",
             n_iter,
@@ -480,13 +478,38 @@ class MPPCA:
         )
         return self
 
+    def to_arrays(self) -> tuple[dict, dict]:
+        """The fitted mixture as (arrays, meta), the feature model's stored form; ``from_arrays`` inverts it."""
+        check_fitted(self, "components_")
+        arrays = {"weights": self.weights_, "means": self.means_, "components": self.components_,
+                  "noise_variance": self.noise_variance_}  # fmt: skip
+        meta = {"log_likelihood": self.log_likelihood_, "n_iter": self.n_iter_, "converged": self.converged_,
+                "n_reseeded": self.n_reseeded_, "noise_variance_floor": self.noise_variance_floor_}  # fmt: skip
+        return arrays, meta
+
+    @classmethod
+    def from_arrays(cls, arrays: dict, meta: dict) -> "MPPCA":
+        """The MPPCA that ``to_arrays`` recorded, fitted: it scores and predicts as the original did.
+
+        ``n_components`` and ``n_latent`` follow from the arrays' shapes; the other hyper-parameters, which
+        only matter to ``fit``, are the defaults.
+        """
+        n_components, n_features, n_latent = np.shape(arrays["components"])
+        model = cls(n_components, n_latent=n_latent)
+        model.weights_, model.means_ = arrays["weights"], arrays["means"]
+        model.components_, model.noise_variance_ = arrays["components"], arrays["noise_variance"]
+        model.noise_variance_floor_ = meta["noise_variance_floor"]
+        model.log_likelihood_, model.n_iter_ = list(meta["log_likelihood"]), meta["n_iter"]
+        model.converged_, model.n_reseeded_ = meta["converged"], meta["n_reseeded"]
+        model.n_features_in_ = n_features
+        return model
+
     def _scoring_setup(self, X):
         """Validate ``X`` against the fitted model; return (X, projection, chunk size)."""
-        if not hasattr(self, "components_"):
-            raise VoxposeError("MPPCA is not fitted yet: call fit() first")
-        X = check_rows(X, "MPPCA input", self.n_features_in_)
+        check_fitted(self, "components_")
+        X = as_rows(X, "MPPCA input", self.n_features_in_, dtype=None)
         params = _Params(self.weights_, self.means_, self.components_, self.noise_variance_)
-        return X, _project(params), check_chunk_size(self.chunk_size)
+        return X, _project(params), integer(self.chunk_size, "chunk_size")
 
     def score_samples(self, X):
         """Log density ``log p(t_n)`` of each row of ``X`` (n, d) under the mixture: shape (n,)."""

@@ -14,14 +14,8 @@ import numpy as np
 import scipy.linalg
 
 from voxpose.errors import VoxposeError
-from voxpose.regression.kernels import (
-    as_rows,
-    check_width,
-    gaussian_kernel,
-    holdout_split,
-    median_pairwise_distance,
-    squared_distances,
-)
+from voxpose.regression.kernels import gaussian_kernel, holdout_split, median_pairwise_distance
+from voxpose.validation import as_rows, check_fitted, positive_number, squared_distances
 
 log = logging.getLogger(__name__)
 
@@ -63,16 +57,42 @@ class _Baseline:
     """Shared prediction plumbing: 1-D targets in, 1-D predictions out."""
 
     def _check_input(self, X) -> np.ndarray:
-        if not hasattr(self, "n_features_in_"):
-            raise VoxposeError(f"{type(self).__name__}: call fit before predict")
+        check_fitted(self, "n_features_in_")
         return as_rows(X, f"{type(self).__name__}: X", self.n_features_in_)
 
     def _output(self, pred: np.ndarray) -> np.ndarray:
         return pred[:, 0] if self._single_output else pred
 
+    # the fitted state as (arrays, meta), and back: ``_STATE`` names the fitted array attributes,
+    # ``_SCALARS`` the fitted scalars, ``_PARAMS`` the constructor's hyper-parameters kept with them
+    _STATE: tuple = ()
+    _SCALARS: tuple = ()
+    _PARAMS: tuple = ()
+
+    def to_arrays(self) -> tuple[dict, dict]:
+        """The fitted state as (arrays, meta), for a baselines file."""
+        check_fitted(self, "n_features_in_")
+        arrays = {name: getattr(self, f"{name}_") for name in self._STATE}
+        meta = {name: float(getattr(self, f"{name}_")) for name in self._SCALARS}
+        meta |= {name: getattr(self, name) for name in self._PARAMS}
+        return arrays, meta | {"n_features_in": int(self.n_features_in_), "single_output": bool(self._single_output)}
+
+    @classmethod
+    def from_arrays(cls, arrays: dict, meta: dict):
+        """A fitted baseline from ``to_arrays``'s (arrays, meta): it predicts exactly as the one saved."""
+        model = cls(**{name: meta[name] for name in cls._PARAMS})
+        for name in cls._STATE:
+            setattr(model, f"{name}_", np.asarray(arrays[name], dtype=np.float64))
+        for name in cls._SCALARS:
+            setattr(model, f"{name}_", float(meta[name]))
+        model.n_features_in_, model._single_output = int(meta["n_features_in"]), bool(meta["single_output"])
+        return model
+
 
 class MeanPose(_Baseline):
     """Predicts the mean training target for every input. Attribute ``mean_`` (P,)."""
+
+    _STATE = ("mean",)
 
     def fit(self, X, Y) -> "MeanPose":
         x, y, self._single_output = _training_pair(X, Y, "MeanPose")
@@ -91,6 +111,9 @@ class NearestNeighbour(_Baseline):
     Attributes ``X_`` (N, d) and ``Y_`` (N, P): the training rows. Distances are computed in blocks of
     ``block`` query rows to bound memory.
     """
+
+    _STATE = ("X", "Y")
+    _PARAMS = ("block",)
 
     def __init__(self, block: int = 1024):
         self.block = block
@@ -133,9 +156,13 @@ class KernelRidge(_Baseline):
         (list of ``(ridge, validation RMSE)``) when the ridge was chosen.
     """
 
+    _STATE = ("X", "dual_coef", "intercept")
+    _SCALARS = ("kernel_width", "ridge")
+
     def __init__(
         self,
         kernel_width="median",
+        *,
         ridge=None,
         ridges=(1e-4, 1e-3, 1e-2, 1e-1, 1.0, 10.0),
         validation_fraction: float = 0.2,
@@ -157,7 +184,7 @@ class KernelRidge(_Baseline):
         if self.kernel_width == "median":
             self.kernel_width_ = median_pairwise_distance(x, random_state=self.random_state)
         else:
-            self.kernel_width_ = check_width(self.kernel_width)
+            self.kernel_width_ = positive_number(self.kernel_width, "kernel width")
         gram = gaussian_kernel(x, x, self.kernel_width_)
         if self.ridge is None:
             fit_rows, val_rows = holdout_split(x.shape[0], self.validation_fraction, groups, self.random_state)

@@ -11,24 +11,7 @@ by one Gaussian centred on every training row. ``design_matrix`` builds these ro
 import numpy as np
 
 from voxpose.errors import VoxposeError
-from voxpose.validation import as_rows
-
-
-def check_width(width) -> float:
-    """A kernel width as a float, or a ``VoxposeError`` when it is not a finite positive number."""
-    try:
-        w = float(width)
-    except (TypeError, ValueError):
-        raise VoxposeError(f"kernel width must be a positive number, got {width!r}") from None
-    if not (np.isfinite(w) and w > 0):
-        raise VoxposeError(f"kernel width must be a positive number, got {width!r}")
-    return w
-
-
-def squared_distances(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Squared Euclidean distances (n, m) between the rows of ``a`` (n, d) and ``b`` (m, d), clipped at 0."""
-    d2 = np.sum(a * a, axis=1)[:, None] + np.sum(b * b, axis=1)[None, :] - 2.0 * (a @ b.T)
-    return np.maximum(d2, 0.0)
+from voxpose.validation import as_rows, squared_distances
 
 
 def gaussian_kernel(a: np.ndarray, b: np.ndarray, width: float) -> np.ndarray:

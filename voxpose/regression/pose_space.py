@@ -18,7 +18,7 @@ Choices where the paper is silent or loose:
 import numpy as np
 
 from voxpose.errors import VoxposeError
-from voxpose.validation import as_rows
+from voxpose.validation import as_rows, check_fitted
 
 _TIE = 1e-9
 
@@ -74,18 +74,30 @@ class PosePCA:
         self.explained_variance_ratio_ = self.eigenvalues_[:m_keep] / self.eigenvalues_.sum()
         return self
 
-    def _check_fitted(self) -> None:
-        if not hasattr(self, "components_"):
-            raise VoxposeError("pose PCA: call fit before transform or inverse_transform")
+    def to_arrays(self) -> tuple[dict, dict]:
+        """What ``transform`` and ``inverse_transform`` need, as (arrays, meta); ``from_arrays`` inverts it.
+
+        The spectrum (``eigenvalues_``, ``explained_variance_ratio_``) describes the fit and is not kept.
+        """
+        check_fitted(self, "components_")
+        return {"mean": self.mean_, "components": self.components_}, {}
+
+    @classmethod
+    def from_arrays(cls, arrays: dict, meta: dict) -> "PosePCA":
+        """The PosePCA that ``to_arrays`` recorded, fitted: it transforms as the original did."""
+        pca = cls()
+        pca.mean_, pca.components_ = arrays["mean"], arrays["components"]
+        pca.n_components_ = len(pca.components_)
+        return pca
 
     def transform(self, angles) -> np.ndarray:
         """Angle vectors (n, m') -> pose-space coordinates y (n, M)."""
-        self._check_fitted()
+        check_fitted(self, "components_")
         x = as_rows(angles, "pose PCA: angles", self.mean_.size)
         return (x - self.mean_) @ self.components_.T
 
     def inverse_transform(self, coords) -> np.ndarray:
         """Pose-space coordinates y (n, M) -> angle vectors y' (n, m') in degrees."""
-        self._check_fitted()
+        check_fitted(self, "components_")
         y = as_rows(coords, "pose PCA: coordinates", self.n_components_)
         return y @ self.components_ + self.mean_

@@ -18,10 +18,10 @@ def transfer_summary(voxel_set, method="mppca"):
     tags), so a changed setting writes new files instead of overwriting these, and changing it back finds them.
     """
     desc, feat = (DESC, MPPCA) if method == "mppca" else (CTX, AT_ALL)
-    return f"results/claims/transfer/{voxel_set}/{CLAIMS_EXP}/{RIG}/{desc}/{feat}/summary.json"
+    return f"results/claims/transfer/{voxel_set}/{TRAIN[CLAIMS_EXP]}/{RIG}/{desc}/{feat}/summary.json"
 
 
-TRANSFER = "results/claims/transfer/{voxel_set}/{exp}/{rig}/{desc}/{feat}"
+TRANSFER = "results/claims/transfer/{voxel_set}/{train}/{rig}/{desc}/{feat}"
 
 
 # --- Agarwal & Triggs-style features: 2D shape contexts per view, a K-means soft histogram per view ---
@@ -53,13 +53,18 @@ def at_cameras(w):
     return arg("all" if w.feat == AT_ALL else [CLAIMS["at"]["camera"]])
 
 
+def set_contexts(tag):
+    """Input function: the 2D shape-context files of the motions of set ``tag`` (a wildcard's name)."""
+    return lambda w: expand(
+        "results/claims/contexts/{rig}/{ctx}/{motion}.h5", rig=w.rig, ctx=w.desc, motion=SETS[getattr(w, tag)]
+    )
+
+
 rule fit_silhouette_features:
     input:
-        lambda w: expand(
-            "results/claims/contexts/{rig}/{ctx}/{motion}.h5", rig=w.rig, ctx=w.desc, motion=EXPERIMENTS[w.exp]["train"]
-        ),
+        set_contexts("train"),
     output:
-        "results/features/{exp}/{rig}/{desc}/{feat}/model.h5",
+        "results/features/{train}/{rig}/{desc}/{feat}/model.h5",
     wildcard_constraints:
         desc=re.escape(CTX),
         feat=f"{re.escape(AT_ONE)}|{re.escape(AT_ALL)}",
@@ -69,7 +74,7 @@ rule fit_silhouette_features:
         seed=config["seed"],
         code=code("fit-silhouette-features"),
     log:
-        "results/logs/fit_silhouette_features/{exp}/{rig}/{desc}/{feat}.log",
+        "results/logs/fit_silhouette_features/{train}/{rig}/{desc}/{feat}.log",
     threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
     resources:
         mem_mb=4000,
@@ -81,19 +86,17 @@ rule fit_silhouette_features:
 
 rule silhouette_features:
     input:
-        model="results/features/{exp}/{rig}/{desc}/{feat}/model.h5",
-        contexts=lambda w: expand(
-            "results/claims/contexts/{rig}/{ctx}/{motion}.h5", rig=w.rig, ctx=w.desc, motion=experiment_motions(w.exp)
-        ),
+        model="results/features/{train}/{rig}/{desc}/{feat}/model.h5",
+        contexts=set_contexts("set"),
     output:
-        "results/features/{exp}/{rig}/{desc}/{feat}/features.h5",
+        "results/features/{train}/{rig}/{desc}/{feat}/sets/{set}.h5",
     wildcard_constraints:
         desc=re.escape(CTX),
         feat=f"{re.escape(AT_ONE)}|{re.escape(AT_ALL)}",
     params:
         code=code("silhouette-features"),
     log:
-        "results/logs/silhouette_features/{exp}/{rig}/{desc}/{feat}.log",
+        "results/logs/silhouette_features/{train}/{rig}/{desc}/{feat}/{set}.log",
     threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
     resources:
         mem_mb=4000,
@@ -135,7 +138,7 @@ rule voxelize_degraded:
 
 rule transfer_features:
     input:
-        model="results/features/{exp}/{rig}/{desc}/{feat}/model.h5",
+        model="results/features/{train}/{rig}/{desc}/{feat}/model.h5",
         descriptors=lambda w: expand(
             "results/descriptors/{vs}/{desc}/{motion}.h5", vs=w.voxel_set, desc=w.desc, motion=claims_test(w.voxel_set)
         ),
@@ -147,7 +150,7 @@ rule transfer_features:
     params:
         code=code("features"),
     log:
-        "results/logs/transfer_features/{voxel_set}/{exp}/{rig}/{desc}/{feat}.log",
+        "results/logs/transfer_features/{voxel_set}/{train}/{rig}/{desc}/{feat}.log",
     threads: 1
     resources:
         mem_mb=4000,
@@ -158,7 +161,7 @@ rule transfer_features:
 
 rule transfer_silhouette_features:
     input:
-        model="results/features/{exp}/{rig}/{desc}/{feat}/model.h5",
+        model="results/features/{train}/{rig}/{desc}/{feat}/model.h5",
         contexts=lambda w: expand(
             "results/claims/contexts/{vs}/{desc}/{motion}.h5", vs=w.voxel_set, desc=w.desc, motion=claims_test(w.voxel_set)
         ),
@@ -170,7 +173,7 @@ rule transfer_silhouette_features:
     params:
         code=code("silhouette-features"),
     log:
-        "results/logs/transfer_features/{voxel_set}/{exp}/{rig}/{desc}/{feat}.log",
+        "results/logs/transfer_features/{voxel_set}/{train}/{rig}/{desc}/{feat}.log",
     threads: 1
     resources:
         mem_mb=4000,
@@ -182,7 +185,7 @@ rule transfer_silhouette_features:
 rule transfer_predict:
     input:
         features=f"{TRANSFER}/features.h5",
-        regressor="results/runs/{exp}/{rig}/{desc}/{feat}/regressor.h5",
+        regressor="results/runs/{train}/{rig}/{desc}/{feat}/regressor.h5",
         motions=lambda w: expand("results/motions/{motion}.h5", motion=claims_test(w.voxel_set)),
     output:
         f"{TRANSFER}/summary.json",
@@ -191,15 +194,15 @@ rule transfer_predict:
     params:
         test=lambda w: ",".join(claims_test(w.voxel_set)),
         cfg=arg(config["regression"]),
-        code=code("transfer-predict"),
+        code=code("evaluate"),
     log:
-        "results/logs/transfer_predict/{voxel_set}/{exp}/{rig}/{desc}/{feat}.log",
+        "results/logs/transfer_predict/{voxel_set}/{train}/{rig}/{desc}/{feat}.log",
     threads: 1
     resources:
         mem_mb=2000,
         runtime=10,
     shell:
-        "voxpose transfer-predict {input.features} {input.motions} --regressor {input.regressor} --test {params.test}"
+        "voxpose evaluate {input.features} {input.motions} --regressor {input.regressor} --test {params.test}"
         " --params {params.cfg} -o {output} --log {log}"
 
 
@@ -216,7 +219,7 @@ def camera_runs():
                      "summary": transfer_summary(tag)})  # fmt: skip
         if tag == RIG or name in CLAIMS["retrain"]:
             runs.append({"rig": name, "cameras": n, "series": "retrained on this rig (voxels)",
-                         "summary": f"{run_dir(CLAIMS_EXP, DESC, MPPCA, rig=tag)}/summary.json"})  # fmt: skip
+                         "summary": f"{test_dir(CLAIMS_EXP, DESC, MPPCA, rig=tag)}/summary.json"})  # fmt: skip
         runs.append({"rig": name, "cameras": n, "series": f"A&T, {n_default} views concatenated, trained on {RIG}",
                      "summary": transfer_summary(tag, "at") if n == n_default else None})  # fmt: skip
     return runs

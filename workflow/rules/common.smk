@@ -44,8 +44,8 @@ try:
         EXPERIMENT_CFG, EXPERIMENT_KEY = config["experiments"], "experiments"
     MOTIONS = sorted([*SOURCE_BVH, *DERIVED, *GENERATED])
     SHIPPED = yaml.safe_load(Path(workflow.source_path("../../config/config.yaml")).read_text())
-    EXPERIMENTS, skipped = wc.resolve_experiments(EXPERIMENT_CFG, MOTIONS, EXPERIMENT_KEY, SHIPPED[EXPERIMENT_KEY])
-    for name in skipped:
+    EXPERIMENTS, SKIPPED = wc.resolve_experiments(EXPERIMENT_CFG, MOTIONS, EXPERIMENT_KEY, SHIPPED[EXPERIMENT_KEY])
+    for name in SKIPPED:
         _note(f"{EXPERIMENT_KEY}.{name}: skipped, no training or no test motion among the {len(MOTIONS)} motions "
               f"(the shipped experiment names the shared data's motions; define your own in {EXPERIMENT_KEY})")  # fmt: skip
     CLAIM_RIGS = wc.claims_rigs(config["claims"], config["rig"])
@@ -58,6 +58,17 @@ try:
         raise VoxposeError(f"config key claims.experiment: no experiment named {config['claims']['experiment']!r}")
 except VoxposeError as err:
     _fail(err)
+
+# Fits are cached by content: an experiment's features and regressor live under the tag of its training motions
+# (wc.motion_set_tag), so experiments with the same training set share them; each test set is evaluated under the
+# tag of its own motions. SETS: tag -> motions; TRAIN: experiment -> training tag; TESTS: experiment -> {set: tag}.
+TRAIN = {exp: wc.motion_set_tag(e["train"]) for exp, e in EXPERIMENTS.items()}
+TESTS = {exp: {s: wc.motion_set_tag(m) for s, m in e["test_sets"].items()} for exp, e in EXPERIMENTS.items()}
+# a left-out experiment's paths name the empty set, so that the rules wired to it still parse; final_targets()
+# leaves its artifacts out, so nothing asks for them
+TRAIN |= {exp: wc.motion_set_tag([]) for exp in SKIPPED}
+TESTS |= {exp: {"test": wc.motion_set_tag([])} for exp in SKIPPED}
+SETS = {wc.motion_set_tag(m): m for e in EXPERIMENTS.values() for m in (e["train"], *e["test_sets"].values())}
 
 RIG = config["rig"]["name"]
 RIG_SECTIONS = {RIG: config["rig"], **CLAIM_RIGS}
@@ -109,6 +120,8 @@ wildcard_constraints:
     desc=r"[^/]+",
     feat=r"[^/]+",
     exp=r"[A-Za-z0-9_]+",
+    train=r"n\d+-[0-9a-f]+",
+    set=r"n\d+-[0-9a-f]+",
 
 
 # Resources (issue 9). Every rule sets threads, mem_mb (MB) and runtime (minutes) with one of the two helpers below,
@@ -157,12 +170,14 @@ def arg(value):
     return shlex.quote(json.dumps(value, sort_keys=True))
 
 
-def experiment_motions(exp):
-    return EXPERIMENTS[exp]["train"] + EXPERIMENTS[exp]["test"]
-
-
 def run_dir(exp, desc, feat, rig=None):
-    return f"results/runs/{exp}/{rig or RIG}/{desc}/{feat}"
+    """Where the regressor of experiment ``exp`` (its training set's tag) lives."""
+    return f"results/runs/{TRAIN[exp]}/{rig or RIG}/{desc}/{feat}"
+
+
+def test_dir(exp, desc, feat, test=None, rig=None):
+    """Where experiment ``exp``'s regressor is evaluated on its test set ``test`` (default: the first one)."""
+    return f"{run_dir(exp, desc, feat, rig)}/sets/{TESTS[exp][test or next(iter(TESTS[exp]))]}"
 
 
 def figure4_runs():
@@ -170,14 +185,15 @@ def figure4_runs():
     f4 = config["figure4"]
     runs = []
     for r in f4["r_max"]:
-        runs.append(("r_max", r, run_dir("figure4", wc.descriptor_tag(dict(DESC_CFG, r_max=r)), MPPCA)))
+        runs.append(("r_max", r, test_dir("figure4", wc.descriptor_tag(dict(DESC_CFG, r_max=r)), MPPCA)))
     for n in f4["n_r"]:
-        runs.append(("n_r", n, run_dir("figure4", wc.descriptor_tag(dict(DESC_CFG, n_r=n)), MPPCA)))
+        runs.append(("n_r", n, test_dir("figure4", wc.descriptor_tag(dict(DESC_CFG, n_r=n)), MPPCA)))
     for ne, na in f4["ne_na"]:
         tag = wc.descriptor_tag(dict(DESC_CFG, n_e=ne, n_a=na))
-        runs.append(("ne_na", f"{ne}x{na}", run_dir("figure4", tag, MPPCA)))
+        runs.append(("ne_na", f"{ne}x{na}", test_dir("figure4", tag, MPPCA)))
     for k in f4["n_components"]:
-        runs.append(("n_components", k, run_dir("figure4", DESC, wc.feature_tag("mppca", dict(FEAT_CFG, n_components=k)))))
+        feat = wc.feature_tag("mppca", dict(FEAT_CFG, n_components=k))
+        runs.append(("n_components", k, test_dir("figure4", DESC, feat)))
     return runs
 
 
@@ -189,20 +205,21 @@ def bvh_path(w):
     return f"results/bvh/generated/{w.motion}.bvh"
 
 
-def train_descriptors(w):
-    return expand(
-        "results/descriptors/{rig}/{desc}/{motion}.h5", rig=w.rig, desc=w.desc, motion=EXPERIMENTS[w.exp]["train"]
+def set_descriptors(tag):
+    """Input function: the descriptor files of the motions of set ``tag`` (a wildcard's name)."""
+    return lambda w: expand(
+        "results/descriptors/{rig}/{desc}/{motion}.h5", rig=w.rig, desc=w.desc, motion=SETS[getattr(w, tag)]
     )
 
 
-def all_descriptors(w):
-    return expand(
-        "results/descriptors/{rig}/{desc}/{motion}.h5", rig=w.rig, desc=w.desc, motion=experiment_motions(w.exp)
-    )
+def set_motions(tag):
+    """Input function: the motion files of the motions of set ``tag`` (a wildcard's name)."""
+    return lambda w: expand("results/motions/{motion}.h5", motion=SETS[getattr(w, tag)])
 
 
-def run_file(exp, feat, name, desc=None):
-    return f"{run_dir(exp, desc or DESC, feat)}/{name}"
+def run_file(exp, feat, name, desc=None, test=None):
+    """A file of experiment ``exp``'s evaluation on test set ``test`` (default: its first)."""
+    return f"{test_dir(exp, desc or DESC, feat, test)}/{name}"
 
 
 def final_targets():
@@ -219,4 +236,5 @@ def final_targets():
                         "results/figures/robustness.png", "results/tables/robustness.csv"]),  # fmt: skip
     ]
     artifacts = [path for exps, paths in needs if set(exps) <= set(EXPERIMENTS) for path in paths]
+    artifacts += [f"results/tables/experiments/{exp}.csv" for exp in EXPERIMENTS]
     return artifacts + [f"results/motions/{motion}.h5" for motion in MOTIONS]

@@ -41,3 +41,27 @@ rule table2:
         runtime=2,
     shell:
         "voxpose table2 --summary {input.summary} --csv {output.csv} --md {output.md} --log {log}"
+
+
+rule experiment_table:
+    input:
+        lambda w: [f"{test_dir(w.exp, DESC, feat, s)}/summary.json" for s in TESTS[w.exp] for feat in (MPPCA, KMEANS)],
+    output:
+        csv=report("results/tables/experiments/{exp}.csv", caption="../report/experiment_table.rst",
+                   category="Experiments", subcategory="{exp}"),  # fmt: skip
+        md="results/tables/experiments/{exp}.md",
+    params:
+        sets=lambda w: " ".join(
+            f"--test-set {s} {test_dir(w.exp, DESC, MPPCA, s)}/summary.json {test_dir(w.exp, DESC, KMEANS, s)}/summary.json"
+            for s in TESTS[w.exp]
+        ),
+        code=code("experiment-table"),
+    log:
+        "results/logs/experiment_table/{exp}.log",
+    localrule: True
+    threads: 1
+    resources:
+        mem_mb=500,
+        runtime=2,
+    shell:
+        "voxpose experiment-table --name {wildcards.exp} {params.sets} --csv {output.csv} --md {output.md} --log {log}"

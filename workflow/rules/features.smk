@@ -1,12 +1,13 @@
-# Feature transformation (Section 5): MPPCA fitted on an experiment's training descriptors -> Eq. 5 features;
-# the K-means soft-vote histogram as the baseline (Table 1, third row).
+# Feature transformation (Section 5): MPPCA fitted on a training set's descriptors -> Eq. 5 features of every
+# motion set the fit is used on; the K-means soft-vote histogram as the baseline (Table 1, third row).
+# {train} and {set} are motion-set tags (common.smk): experiments with the same training motions share one fit.
 
 
 rule fit_features:
     input:
-        train_descriptors,
+        set_descriptors("train"),
     output:
-        "results/features/{exp}/{rig}/{desc}/{feat}/model.h5",
+        "results/features/{train}/{rig}/{desc}/{feat}/model.h5",
     wildcard_constraints:
         desc=NOT_CONTOURS,
     params:
@@ -15,7 +16,7 @@ rule fit_features:
         seed=config["seed"],
         code=code("fit-features"),
     log:
-        "results/logs/fit_features/{exp}/{rig}/{desc}/{feat}.log",
+        "results/logs/fit_features/{train}/{rig}/{desc}/{feat}.log",
     threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
     resources:
         mem_mb=by_input(1000, 8),
@@ -27,16 +28,16 @@ rule fit_features:
 
 rule features:
     input:
-        model="results/features/{exp}/{rig}/{desc}/{feat}/model.h5",
-        descriptors=all_descriptors,
+        model="results/features/{train}/{rig}/{desc}/{feat}/model.h5",
+        descriptors=set_descriptors("set"),
     output:
-        "results/features/{exp}/{rig}/{desc}/{feat}/features.h5",
+        "results/features/{train}/{rig}/{desc}/{feat}/sets/{set}.h5",
     wildcard_constraints:
         desc=NOT_CONTOURS,
     params:
         code=code("features"),
     log:
-        "results/logs/features/{exp}/{rig}/{desc}/{feat}.log",
+        "results/logs/features/{train}/{rig}/{desc}/{feat}/{set}.log",
     threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
     resources:
         mem_mb=by_input(500, 1),

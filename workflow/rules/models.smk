@@ -4,9 +4,9 @@
 
 rule export_model:
     input:
-        feature_model="results/features/{exp}/{rig}/{desc}/{feat}/model.h5",
-        regressor="results/runs/{exp}/{rig}/{desc}/{feat}/regressor.h5",
-        summary="results/runs/{exp}/{rig}/{desc}/{feat}/summary.json",
+        feature_model=lambda w: f"results/features/{TRAIN[w.exp]}/{w.rig}/{w.desc}/{w.feat}/model.h5",
+        regressor=lambda w: f"{run_dir(w.exp, w.desc, w.feat, w.rig)}/regressor.h5",
+        summary=lambda w: f"{test_dir(w.exp, w.desc, w.feat, rig=w.rig)}/summary.json",  # provenance: test errors
         motions=lambda w: expand("results/motions/{motion}.h5", motion=EXPERIMENTS[w.exp]["train"]),
     output:
         "results/models/{exp}/{rig}/{desc}/{feat}/model.h5",

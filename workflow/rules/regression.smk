@@ -1,29 +1,54 @@
-# Pose PCA (Eq. 1) and the multivariate RVM (Section 3) per experiment; predictions and Eq. 6 errors per frame.
+# Pose PCA (Eq. 1), the multivariate RVM (Section 3) and the baselines fitted once per training set; each test
+# set evaluated on its own: predictions and Eq. 6 errors per frame.
 
 
 rule regress:
     input:
-        features="results/features/{exp}/{rig}/{desc}/{feat}/features.h5",
-        motions=lambda w: expand("results/motions/{motion}.h5", motion=experiment_motions(w.exp)),
+        features="results/features/{train}/{rig}/{desc}/{feat}/sets/{train}.h5",
+        motions=set_motions("train"),
     output:
-        model="results/runs/{exp}/{rig}/{desc}/{feat}/regressor.h5",
-        predictions="results/runs/{exp}/{rig}/{desc}/{feat}/predictions.h5",
-        angles="results/runs/{exp}/{rig}/{desc}/{feat}/predicted_angles.csv",
-        summary="results/runs/{exp}/{rig}/{desc}/{feat}/summary.json",
+        regressor="results/runs/{train}/{rig}/{desc}/{feat}/regressor.h5",
+        baselines="results/runs/{train}/{rig}/{desc}/{feat}/baselines.h5",
+        fit="results/runs/{train}/{rig}/{desc}/{feat}/fit.json",
     params:
-        train=lambda w: ",".join(EXPERIMENTS[w.exp]["train"]),
-        test=lambda w: ",".join(EXPERIMENTS[w.exp]["test"]),
+        train=lambda w: ",".join(SETS[w.train]),
         cfg=arg(config["regression"]),
         seed=config["seed"],
         code=code("regress"),
     log:
-        "results/logs/regress/{exp}/{rig}/{desc}/{feat}.log",
+        "results/logs/regress/{train}/{rig}/{desc}/{feat}.log",
     threads: 1  # the MVRVM's moves are sequential; two experiments fit side by side instead
     resources:
         mem_mb=by_input(1000, 50),
         runtime=by_input(30, 5),
     shell:
-        "voxpose regress {input.features} --train {params.train} --test {params.test}"
-        " --params {params.cfg} --seed {params.seed} --model {output.model} --predictions {output.predictions}"
-        " --angles {output.angles} --summary {output.summary} --log {log} --threads {threads}"
-        " {input.motions}"
+        "voxpose regress {input.features} --train {params.train} --params {params.cfg} --seed {params.seed}"
+        " --regressor {output.regressor} --baselines {output.baselines} --fit {output.fit} --log {log}"
+        " --threads {threads} {input.motions}"
+
+
+rule evaluate:
+    input:
+        features="results/features/{train}/{rig}/{desc}/{feat}/sets/{set}.h5",
+        regressor="results/runs/{train}/{rig}/{desc}/{feat}/regressor.h5",
+        baselines="results/runs/{train}/{rig}/{desc}/{feat}/baselines.h5",
+        fit="results/runs/{train}/{rig}/{desc}/{feat}/fit.json",
+        motions=set_motions("set"),
+    output:
+        summary="results/runs/{train}/{rig}/{desc}/{feat}/sets/{set}/summary.json",
+        predictions="results/runs/{train}/{rig}/{desc}/{feat}/sets/{set}/predictions.h5",
+        angles="results/runs/{train}/{rig}/{desc}/{feat}/sets/{set}/predicted_angles.csv",
+    params:
+        test=lambda w: ",".join(SETS[w.set]),
+        cfg=arg(config["regression"]),
+        code=code("evaluate"),
+    log:
+        "results/logs/evaluate/{train}/{rig}/{desc}/{feat}/{set}.log",
+    threads: 1
+    resources:
+        mem_mb=by_input(500, 20),
+        runtime=by_input(5, 1),
+    shell:
+        "voxpose evaluate {input.features} --regressor {input.regressor} --baselines {input.baselines}"
+        " --fit {input.fit} --test {params.test} --params {params.cfg} --predictions {output.predictions}"
+        " --angles {output.angles} -o {output.summary} --log {log} {input.motions}"

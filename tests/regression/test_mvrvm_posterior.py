@@ -1,0 +1,80 @@
+"""The MVRVM's incremental posterior against brute-force marginal likelihoods and posteriors."""
+
+import numpy as np
+import pytest
+
+from tests.helpers import mvrvm_log_ml, mvrvm_toy
+from voxpose.regression.kernels import design_matrix
+from voxpose.regression.mvrvm_alpha import contribution
+from voxpose.regression.mvrvm_posterior import Posterior
+
+
+def test_incremental_factors_match_brute_force():
+    """S, Q and mu after adds, re-estimates and deletes equal their definitions via C_p (before and after
+    the refresh that folds the rank-one terms), and the log ML changes by exactly the predicted gains."""
+    x, y, _ = mvrvm_toy(n=40, seed=1)
+    x[5] = x[4] + 1e-3  # rows 4 and 5 (basis functions 5 and 6) are near duplicates: aligned
+    phi = design_matrix(x, x, 1.5, bias=True)
+    beta = np.array([50.0, 200.0, 80.0])
+    cap = np.full(3, 1e12)
+    post = Posterior(phi, y, beta, alignment_max=0.999)
+    lml, _ = post.refresh(update_beta=False, beta_cap=cap)
+    moves = [("add", 0, 0.5), ("add", 11, 2.0), ("add", 30, 0.1), ("re", 11, 7.0), ("add", 5, 3.0)]
+    moves += [("add", 21, 1.0), ("del", 0, None), ("re", 30, 0.02), ("del", 5, None), ("add", 6, 2.0)]
+    moves += [("del", 21, None)]
+    six_tracked = [True] * 4 + [False] * 4 + [True] * 3  # excluded while its duplicate 5 is active
+    for (kind, j, alpha), tracked in zip(moves, six_tracked, strict=True):
+        s, q = post.factors()
+        current = 0.0 if kind == "add" else contribution(post.alpha[j], s[j], q[j] ** 2)
+        new = 0.0 if kind == "del" else contribution(alpha, s[j], q[j] ** 2)
+        {"add": post.add, "re": post.reestimate, "del": lambda j, _: post.delete(j)}[kind](j, alpha)
+        lml += new - current
+        assert post.tracked[6] == tracked
+    act = post.active_basis
+    assert sorted(act) == [6, 11, 30]
+    assert lml == pytest.approx(mvrvm_log_ml(phi[:, act], y, post.alpha[act], post.beta), rel=1e-11)
+
+    def check():
+        live = np.flatnonzero(post.live[: post.n_slots])
+        pa = phi[:, act]
+        rows = post.rows
+        assert 5 not in rows  # aligned with the active 6
+        for p in range(3):
+            c_inv = np.linalg.inv(np.eye(40) / beta[p] + (pa / post.alpha[act]) @ pa.T)
+            s_ref = np.einsum("nb,nm,mb->b", phi, c_inv, phi)
+            assert np.allclose(post.S[rows, p], s_ref[rows], rtol=1e-9)
+            assert np.allclose(post.Q[rows, p], (phi.T @ c_inv @ y[:, p])[rows], rtol=1e-9, atol=1e-9)
+            sigma = np.linalg.inv(np.diag(post.alpha[act]) + beta[p] * pa.T @ pa)
+            assert np.allclose(post.mu[p, live], beta[p] * sigma @ pa.T @ y[:, p], rtol=1e-9, atol=1e-9)
+            assert np.allclose(post.diag[p, live], np.diag(sigma), rtol=1e-9)
+
+    check()
+    refreshed, _ = post.refresh(update_beta=False, beta_cap=cap)
+    assert refreshed == pytest.approx(lml, rel=1e-11)
+    act = post.active_basis
+    check()
+
+
+def test_noise_update_keeps_the_best_of_old_mackay_and_em():
+    x, y, _ = mvrvm_toy(n=60, seed=2)
+    phi = design_matrix(x, x, 1.5, bias=True)
+    cap = np.full(3, 1e12)
+    post = Posterior(phi, y, np.array([1e4, 1.0, 3.0]), alignment_max=0.999)
+    post.refresh(update_beta=False, beta_cap=cap)
+    for j, alpha in ((0, 1.0), (20, 0.3), (40, 0.3)):
+        post.add(j, alpha)
+    before, _ = post.refresh(update_beta=False, beta_cap=cap)
+    act, old = post.active_basis, post.beta.copy()
+    pa, alpha = phi[:, act], post.alpha[act]
+    after, change = post.refresh(update_beta=True, beta_cap=cap)
+    assert after >= before
+    assert change == pytest.approx(np.max(np.abs(np.log(post.beta / old))))
+    for p in range(3):
+        sigma = np.linalg.inv(np.diag(alpha) + old[p] * pa.T @ pa)
+        mu = old[p] * sigma @ pa.T @ y[:, p]
+        resid2 = np.sum((y[:, p] - pa @ mu) ** 2)
+        gamma = np.sum(1 - alpha * np.diag(sigma))
+        options = [old[p], (60 - gamma) / resid2, 60 / (resid2 + gamma / old[p])]
+        values = [mvrvm_log_ml(pa, y[:, [p]], alpha, np.array([b])) for b in options]
+        assert post.beta[p] == pytest.approx(options[int(np.argmax(values))], rel=1e-9)
+    assert after == pytest.approx(mvrvm_log_ml(pa, y, alpha, post.beta), rel=1e-10)

@@ -1,0 +1,26 @@
+"""``voxpose experiment-table``: one experiment's results, one row per (test set, method), as CSV and Markdown."""
+
+NAME = "experiment-table"
+HELP = "an experiment's errors per test set and method (CSV + Markdown)"
+
+
+def add_arguments(p):
+    p.add_argument("--name", required=True, help="the experiment's name (the table's title)")
+    p.add_argument(
+        "--test-set", nargs=3, action="append", required=True, metavar=("SET", "MPPCA", "KMEANS"),
+        help="a test set's name and the summary.json of its MPPCA and K-means runs (repeatable)",
+    )  # fmt: skip
+    p.add_argument("--csv", required=True)
+    p.add_argument("--md", required=True)
+
+
+def run(args):
+    from voxpose.errors import VoxposeError
+    from voxpose.evaluation.tables import experiment_table, read_summary, write_table
+
+    names = [name for name, _, _ in args.test_set]
+    if len(set(names)) != len(names):
+        raise VoxposeError(f"--test-set: a test set is named twice ({', '.join(names)})")
+    sets = {name: (read_summary(mppca), read_summary(kmeans)) for name, mppca, kmeans in args.test_set}
+    write_table(experiment_table(sets), args.csv, args.md,
+                f"Experiment {args.name}: RMS error (degrees) and joint position error (mm) per test set")  # fmt: skip

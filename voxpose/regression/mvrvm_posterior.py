@@ -1,0 +1,285 @@
+"""The MVRVM's posterior over its active basis functions (Section 3), kept up to date move by move.
+
+For the active basis functions, output p has the posterior ``Sigma_p = (A + beta_p Phi'Phi)^-1`` and
+``mu_p = beta_p Sigma_p Phi' y_p``; every basis function m has the factors ``S_mp`` and ``Q_mp`` of
+``voxpose.regression.mvrvm_alpha``. Moves (add, re-estimate, delete) update them by the rank-one formulas
+of Tipping & Faul (2003, appendix); ``Posterior.refresh`` recomputes them from scratch, re-estimating the
+noise first when asked (the rule is in ``voxpose.regression.mvrvm``).
+
+Numerics: because ``alpha`` is shared, one symmetric eigendecomposition
+``A^-1/2 Phi'Phi A^-1/2 = V diag(d) V'`` gives the posterior of every output and every ``beta``:
+``Sigma_p = W diag(1 / (1 + beta_p d)) W'`` with ``W = A^-1/2 V``, ``log|C_p| = -N log beta_p + sum log(1 +
+beta_p d)``; ``I + beta_p diag(d)`` has eigenvalues >= 1, so nothing can fail to factorise, no jitter is
+needed and nothing is inverted explicitly. Between full recomputations the covariances are this
+factorisation plus the moves' rank-one terms (``Posterior``).
+"""
+
+import numpy as np
+
+_LOG_2PI = float(np.log(2.0 * np.pi))
+
+
+class Posterior:
+    """Posterior over the active basis functions of all P outputs, with S and Q of the basis functions.
+
+    S and Q are kept for the *tracked* basis functions (``rows``): the active ones and those not excluded
+    by the alignment test; an excluded one is never a candidate, so its factors are recomputed only when
+    the exclusion ends (its aligned partner deleted), which spares most of the per-move work when many
+    training rows are near duplicates.
+
+    Basis functions sit in slots (``slot_basis``); a deleted one leaves a dead slot until the next
+    ``refresh`` compacts them. ``cross[:, i] = Phi' phi`` of slot i (B,), ``mu`` (P, slots). The covariances
+    are kept implicitly, since P explicit (k, k) matrices would make every move cost P k^2 memory traffic:
+
+        Sigma_p = W diag(c_p) W' (padded with zeros to all slots)  +  sum_r weight_pr u_pr u_pr',
+
+    the first term from the eigendecomposition of the last ``refresh`` (shared by all outputs), the
+    second the rank-one terms of the moves since (``u`` (P, r, slots), ``weight`` (P, r)).
+    """
+
+    def __init__(self, phi: np.ndarray, y: np.ndarray, beta: np.ndarray, alignment_max: float):
+        self.phi, self.y, self.beta = phi, y, beta.copy()
+        self.n, self.n_basis = phi.shape
+        self.p = y.shape[1]
+        self.norms2 = np.einsum("nb,nb->b", phi, phi)
+        self.phity = phi.T @ y
+        self.yy = np.sum(y * y, axis=0)
+        self.alignment_max = alignment_max
+        self.alpha = np.full(self.n_basis, np.inf)
+        self.n_aligned = np.zeros(self.n_basis, dtype=np.int64)
+        self.n_slots = self.n_corrections = 0
+        self.slot_basis = np.empty(0, dtype=np.int64)
+        self.live = np.empty(0, dtype=bool)
+        self.cross = np.empty((self.n_basis, 0))
+        self.mu = np.empty((self.p, 0))
+        self.diag = np.empty((self.p, 0))  # diagonal of every Sigma_p over the slots
+        self.u = np.empty((self.p, 0, 0))
+        self.weight = np.empty((self.p, 0))
+        self.w = np.empty((0, 0))
+        self.c = np.empty((0, self.p))
+        self.tracked = np.ones(self.n_basis, dtype=bool)
+        self.rows = np.arange(self.n_basis)
+
+    @property
+    def active_basis(self) -> np.ndarray:
+        return self.slot_basis[: self.n_slots][self.live[: self.n_slots]]
+
+    @property
+    def k(self) -> int:
+        return int(np.count_nonzero(self.live[: self.n_slots]))
+
+    def _reserve(self) -> None:
+        """Room for one more slot and one more correction (capacities double)."""
+        ns, r = self.n_slots, self.n_corrections
+        if ns == self.slot_basis.size:
+            cap = max(16, 2 * ns)
+            self.slot_basis = np.resize(self.slot_basis, cap)
+            self.live = np.concatenate([self.live[:ns], np.zeros(cap - ns, dtype=bool)])
+            cross = np.empty((self.n_basis, cap))
+            cross[:, :ns] = self.cross[:, :ns]
+            self.cross = cross
+            self.mu = np.concatenate([self.mu[:, :ns], np.zeros((self.p, cap - ns))], axis=1)
+            self.diag = np.concatenate([self.diag[:, :ns], np.zeros((self.p, cap - ns))], axis=1)
+            u = np.zeros((self.p, self.u.shape[1], cap))
+            u[:, :r, :ns] = self.u[:, :r, :ns]
+            self.u = u
+        if r == self.u.shape[1]:
+            cap = max(16, 2 * r)
+            u = np.zeros((self.p, cap, self.u.shape[2]))
+            u[:, :r] = self.u[:, :r]
+            self.u = u
+            self.weight = np.concatenate([self.weight[:, :r], np.zeros((self.p, cap - r))], axis=1)
+
+    def _correct(self, vectors: np.ndarray, weights: np.ndarray) -> None:
+        """Add the rank-one terms ``weights[p] * v_p v_p'`` (vectors (P, n_slots)) to every Sigma_p."""
+        r = self.n_corrections
+        self.u[:, r, : vectors.shape[1]] = vectors
+        self.weight[:, r] = weights
+        self.diag[:, : vectors.shape[1]] += weights[:, None] * vectors * vectors
+        self.n_corrections = r + 1
+
+    def _sigma_times(self, v: np.ndarray) -> np.ndarray:
+        """``Sigma_p v`` for all outputs; v (n_slots,) -> (P, n_slots)."""
+        k0, ns, r = self.w.shape[0], self.n_slots, self.n_corrections
+        return self._combine(v[:k0] @ self.w, self.u[:, :r, :ns] @ v if r else None)
+
+    def _sigma_column(self, i: int) -> np.ndarray:
+        """Column ``i`` of every Sigma_p, (P, n_slots)."""
+        k0, r = self.w.shape[0], self.n_corrections
+        return self._combine(self.w[i] if i < k0 else np.zeros(k0), self.u[:, :r, i] if r else None)
+
+    def _combine(self, projected: np.ndarray, along: np.ndarray | None) -> np.ndarray:
+        """``Sigma_p v`` from ``W' v`` (k0,) and the rank-one terms' ``u_pr' v`` (P, r)."""
+        k0, ns, r = self.w.shape[0], self.n_slots, self.n_corrections
+        out = np.zeros((self.p, ns))
+        out[:, :k0] = (projected * self.c.T) @ self.w.T
+        if r:
+            out += np.matmul((along * self.weight[:, :r])[:, None, :], self.u[:, :r, :ns])[:, 0, :]
+        return out
+
+    def factors(self) -> tuple[np.ndarray, np.ndarray]:
+        """``s`` and ``q`` (B, P) of every basis function (active ones exclude their own contribution).
+
+        For an active basis function, ``Sigma_jj = 1 / (alpha + s)`` and ``mu_j = Sigma_jj q``, so
+        ``q = mu_j / Sigma_jj`` and ``s = 1 / Sigma_jj - alpha``, which loses digits only when ``s << alpha``;
+        there ``s = alpha S / (alpha - S)`` is accurate instead (it loses them when ``s >> alpha``).
+        """
+        s, q = self.S.copy(), self.Q.copy()
+        slots = np.flatnonzero(self.live[: self.n_slots])
+        act = self.slot_basis[slots]
+        a = self.alpha[act][:, None]
+        diag = self.diag[:, slots].T
+        with np.errstate(divide="ignore", invalid="ignore"):
+            from_diag = 1.0 / diag - a
+            s[act] = np.where(from_diag > a, from_diag, a * self.S[act] / (a - self.S[act]))
+            q[act] = self.mu[:, slots].T / diag
+        return s, q
+
+    def _aligned(self, column: np.ndarray, j: int) -> np.ndarray:
+        """Basis functions whose cosine with basis function ``j`` (its ``cross`` column) exceeds the limit."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            cosine = column / np.sqrt(self.norms2 * self.norms2[j])
+        return cosine > self.alignment_max
+
+    def add(self, j: int, alpha: float) -> None:
+        """Make basis function ``j`` active with precision ``alpha`` (Tipping & Faul, Appendix A.2)."""
+        self._reserve()
+        ns = self.n_slots
+        column = self.phi.T @ self.phi[:, j]
+        g = np.where(self.live[:ns], column[self.slot_basis[:ns]], 0.0)
+        sv = self.beta[:, None] * self._sigma_times(g)  # (P, ns)
+        sig_jj = 1.0 / (alpha + self.S[j])  # (P,)
+        mu_j = sig_jj * self.Q[j]
+        rows = self.rows
+        e = self.beta * (column[rows, None] - self.cross[rows, :ns] @ sv.T)  # (tracked, P)
+        self.S[rows] -= sig_jj * e * e
+        self.Q[rows] -= mu_j * e
+        self.mu[:, :ns] -= mu_j[:, None] * sv
+        self.mu[:, ns] = mu_j
+        self._correct(np.concatenate([sv, -np.ones((self.p, 1))], axis=1), sig_jj)
+        self.cross[:, ns] = column
+        self.slot_basis[ns] = j
+        self.live[ns] = True
+        self.n_slots = ns + 1
+        self.alpha[j] = alpha
+        self.n_aligned += self._aligned(column, j)
+        self._track()
+
+    def _track(self) -> None:
+        """Update the tracked basis functions; recompute S and Q of those whose exclusion just ended."""
+        tracked = np.isfinite(self.alpha) | (self.n_aligned == 0)
+        self.S[~tracked] = self.Q[~tracked] = np.nan
+        for m in np.flatnonzero(tracked & ~self.tracked):
+            ns = self.n_slots
+            g = np.where(self.live[:ns], self.cross[m, :ns], 0.0)
+            sigma_g = self._sigma_times(g)
+            self.S[m] = self.beta * self.norms2[m] - self.beta**2 * (sigma_g @ g)
+            self.Q[m] = self.beta * (self.phity[m] - self.mu[:, :ns] @ g)
+        self.tracked = tracked
+        self.rows = np.flatnonzero(tracked)
+
+    def _downdate(self, i: int, col: np.ndarray, kappa: np.ndarray) -> None:
+        """Shared part of re-estimation (Tipping & Faul, Appendix A.3) and deletion (A.4) of slot ``i``."""
+        self._reserve()
+        ns = self.n_slots
+        mu_i = self.mu[:, i].copy()
+        self.mu[:, :ns] -= (kappa * mu_i)[:, None] * col
+        rows = self.rows
+        t = self.beta * (self.cross[rows, :ns] @ col.T)  # (tracked, P)
+        self.S[rows] += kappa * t * t
+        self.Q[rows] += kappa * mu_i * t
+        self._correct(col, -kappa)
+
+    def slot(self, j: int) -> int:
+        return int(np.flatnonzero(self.live[: self.n_slots] & (self.slot_basis[: self.n_slots] == j))[0])
+
+    def reestimate(self, j: int, alpha: float) -> None:
+        """Change the precision of active basis function ``j`` to the finite ``alpha``."""
+        i = self.slot(j)
+        col = self._sigma_column(i)
+        self._downdate(i, col, 1.0 / (col[:, i] + 1.0 / (alpha - self.alpha[j])))
+        self.alpha[j] = alpha
+
+    def delete(self, j: int) -> None:
+        """Remove active basis function ``j`` (its precision goes to infinity); its slot dies."""
+        i = self.slot(j)
+        col = self._sigma_column(i)
+        self._downdate(i, col, 1.0 / col[:, i])
+        self.mu[:, i] = 0.0
+        self.live[i] = False
+        self.alpha[j] = np.inf
+        self.n_aligned -= self._aligned(self.cross[:, i], j)
+        self._track()
+
+    def noise_change(self, beta_cap: np.ndarray) -> float:
+        """Largest ``|change of log beta_p|`` the noise re-estimate would make now (no state change).
+
+        Cheap: ``Phi' (y_p - Phi mu_p) = Q_p / beta_p`` for every basis function, so the squared residual is
+        ``||y_p||^2 - sum_j mu_jp (phi_j' y_p + Q_jp / beta_p)`` over the active ones.
+        """
+        slots = np.flatnonzero(self.live[: self.n_slots])
+        act = self.slot_basis[slots]
+        mu = self.mu[:, slots].T  # (k, P)
+        resid2 = self.yy - np.sum(mu * (self.phity[act] + self.Q[act] / self.beta), axis=0)
+        gamma = slots.size - np.sum(self.alpha[act][:, None] * self.diag[:, slots].T, axis=0)
+        with np.errstate(divide="ignore"):
+            proposal = np.minimum((self.n - gamma) / np.maximum(resid2, 0.0), beta_cap)
+        return float(np.max(np.abs(np.log(proposal / self.beta))))
+
+    def refresh(self, update_beta: bool, beta_cap: np.ndarray) -> tuple[float, float]:
+        """Recompute the posterior, S and Q from scratch, first re-estimating beta if asked.
+
+        Dead slots are dropped and the rank-one terms folded into a new eigendecomposition. Returns the
+        log marginal likelihood and the largest ``|change of log beta_p|``.
+        """
+        keep = np.flatnonzero(self.live[: self.n_slots])
+        act = self.slot_basis[keep]
+        k = act.size
+        cross = self.cross[:, keep]
+        self.cross[:, :k] = cross
+        self.slot_basis[:k] = act
+        self.live[:] = False
+        self.live[:k] = True
+        self.u[:, : self.n_corrections, : self.n_slots] = 0.0  # rows are reused by later corrections
+        self.n_slots, self.n_corrections = k, 0
+        inv_sqrt_alpha = 1.0 / np.sqrt(self.alpha[act])
+        gram = cross[act]
+        whitened = inv_sqrt_alpha[:, None] * (0.5 * (gram + gram.T)) * inv_sqrt_alpha[None, :]
+        d, v = np.linalg.eigh(whitened)
+        d = np.maximum(d, 0.0)
+        w = inv_sqrt_alpha[:, None] * v  # Sigma_p = w diag(1 / (1 + beta_p d)) w'
+        z = w.T @ self.phity[act]  # (k, P)
+        phi_act = self.phi[:, act]
+
+        def evaluate(beta):
+            shrink = 1.0 / (1.0 + beta[None, :] * d[:, None])  # (k, P)
+            mu = w @ (beta * shrink * z)
+            resid2 = np.sum((self.y - phi_act @ mu) ** 2, axis=0)
+            logdet = np.sum(np.log1p(beta[None, :] * d[:, None]), axis=0) - self.n * np.log(beta)
+            quad = beta * resid2 + np.sum(self.alpha[act][:, None] * mu * mu, axis=0)
+            return -0.5 * (self.n * _LOG_2PI + logdet + quad), shrink, mu, resid2
+
+        lml, shrink, mu, resid2 = evaluate(self.beta)
+        old = self.beta
+        if update_beta:
+            gamma = k - shrink.sum(axis=0)
+            with np.errstate(divide="ignore"):  # a perfect fit: both go to the cap
+                mackay = (self.n - gamma) / resid2
+                em = self.n / (resid2 + gamma / self.beta)
+            options = [self.beta] + [np.minimum(b, beta_cap) for b in (mackay, em)]
+            values = [lml] + [evaluate(b)[0] for b in options[1:]]
+            pick = np.argmax(np.stack(values), axis=0)
+            self.beta = np.choose(pick, options)
+            lml, shrink, mu, resid2 = evaluate(self.beta)
+        self.w, self.c = w, shrink
+        self.mu[:] = 0.0
+        self.mu[:, :k] = mu.T
+        self.diag[:] = 0.0
+        self.diag[:, :k] = ((w * w) @ shrink).T
+        rows = self.rows
+        f = cross[rows] @ w  # (tracked, k)
+        beta = self.beta
+        self.S, self.Q = np.full((self.n_basis, self.p), np.nan), np.full((self.n_basis, self.p), np.nan)
+        self.S[rows] = beta * self.norms2[rows, None] - beta**2 * ((f * f) @ shrink)
+        self.Q[rows] = beta * self.phity[rows] - beta**2 * (f @ (shrink * z))
+        return float(lml.sum()), float(np.max(np.abs(np.log(self.beta / old))))
