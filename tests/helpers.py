@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from voxpose.io.bvh import Bvh, BvhJoint, joint_columns, rotation_order
+from voxpose.io.bvh import POSITION_CHANNELS, Bvh, BvhJoint, joint_columns, rotation_order
 from voxpose.motion import canon
 from voxpose.motion.bvh_kinematics import local_transforms
 from voxpose.motion.data import MotionData
@@ -19,6 +19,7 @@ from voxpose.voxels.body import Ellipsoids
 ROOT = Path(__file__).resolve().parents[1]
 
 SHARED_BVH = Path(__file__).resolve().parents[1].parent / "shared/data/bvh"
+SHARED_LIBRARY = SHARED_BVH.with_name("bvh-library")  # gestures, fights, ..., and the ReActIdle family
 
 
 ROOT_CHANNELS = ("Xposition", "Yposition", "Zposition", "Zrotation", "Xrotation", "Yrotation")
@@ -116,15 +117,18 @@ def set_rotation(bvh: Bvh, name: str, zxy) -> None:
     bvh.motion[:, rot] = zxy
 
 
-def random_motion(style: str = "generated", n_frames: int = 40, seed: int = 0, rigid_trunk: bool = False) -> Bvh:
-    """Smooth random motion of the hand-made skeleton: each rotation channel a seeded sum of sinusoids.
+def random_motion(
+    style: str = "generated", n_frames: int = 40, seed: int = 0, rigid_trunk: bool = False, fps: float = 30.0
+) -> Bvh:
+    """Smooth random motion of the hand-made skeleton at ``fps``: each rotation channel a seeded sum of sinusoids.
 
     ``rigid_trunk`` keeps the spine, neck, head and clavicles still, so the pelvis and neck frames are
     rigidly attached to each other (canonical forward kinematics is then exact).
     """
     rng = np.random.default_rng(seed)
     bvh = tpose_bvh(style, n_frames)
-    t = np.arange(n_frames) / 30.0
+    bvh.frame_time = 1.0 / fps
+    t = np.arange(n_frames) / fps
     amplitude = rng.uniform(10.0, 40.0, size=(3, bvh.motion.shape[1]))
     freq = rng.uniform(0.3, 1.5, size=(3, bvh.motion.shape[1]))
     phase = rng.uniform(0, 2 * np.pi, size=(3, bvh.motion.shape[1]))
@@ -159,6 +163,64 @@ def rebase_frames(bvh: Bvh, frames: dict) -> Bvh:
         site = None if joint.end_site is None else turn[j].T @ joint.end_site
         joints.append(BvhJoint(joint.name, joint.parent, parent_turn.T @ joint.offset, joint.channels, site))
     return Bvh(joints=joints, frame_time=bvh.frame_time, motion=motion)
+
+
+def reorder_channels(bvh: Bvh, seed: int) -> Bvh:
+    """The same motion with every joint's channels in a new order (root's order unlike the others')."""
+    rng = np.random.default_rng(seed)
+    _, local = local_transforms(bvh)
+    orders = ["XYZ", "XZY", "YXZ", "YZX", "ZXY", "ZYX"]
+    joints, blocks = [], []
+    for j, joint in enumerate(bvh.joints):
+        pos, _ = joint_columns(bvh, j)
+        order = "YZX" if j == 0 else orders[rng.integers(6)]
+        values = {f"{a}rotation": v for a, v in zip(order, matrix_to_euler(local[:, j], order).T, strict=True)}
+        names = [f"{a}rotation" for a in order]
+        if pos is not None:
+            values |= {c: bvh.motion[:, col] for c, col in zip(POSITION_CHANNELS, pos, strict=True)}
+            moved = [POSITION_CHANNELS[i] for i in rng.permutation(3)]
+            names = names + moved if rng.random() < 0.5 else moved + names
+        blocks.append(np.stack([values[c] for c in names], axis=1))
+        joints.append(BvhJoint(joint.name, joint.parent, joint.offset, tuple(names), joint.end_site))
+    return Bvh(joints, bvh.frame_time, np.concatenate(blocks, axis=1))
+
+
+def renamed(bvh: Bvh, names: dict, drop_sites=()) -> Bvh:
+    """``bvh`` with joints renamed by ``names`` (old -> new) and the End Sites of ``drop_sites`` removed."""
+    joints = [
+        BvhJoint(
+            names.get(j.name, j.name),
+            j.parent,
+            j.offset,
+            j.channels,
+            None if j.name in drop_sites else j.end_site,
+        )
+        for j in bvh.joints
+    ]
+    return Bvh(joints, bvh.frame_time, bvh.motion)
+
+
+# A fourth skeleton family made from a CMU file (``lab_family``): every joint renamed in a lab's own style,
+# unknown to the built-in presets, so it loads only with this joint map (the CMU preset's points, renamed).
+LAB_NAMES = {
+    "Hips": "hip", "LHipJoint": "lPelvis", "LeftUpLeg": "lThigh", "LeftLeg": "lShin", "LeftFoot": "lFoot",
+    "LeftToeBase": "lToe", "LowerBack": "abdomen", "Spine": "abdomen2", "Spine1": "chest", "Neck": "neck",
+    "Neck1": "neck2", "Head": "head", "LeftShoulder": "lCollar", "LeftArm": "lShldr", "LeftForeArm": "lForeArm",
+    "LeftHand": "lHand", "LeftFingerBase": "lPalm", "LeftHandIndex1": "lIndex1", "LThumb": "lThumb1",
+}  # fmt: skip
+LAB_NAMES |= {k.replace("Left", "Right").replace("LHip", "RHip").replace("LThumb", "RThumb"): "r" + v[1:]
+              for k, v in LAB_NAMES.items() if v[0] == "l"}  # fmt: skip
+LAB_JOINT_MAP = {
+    "root": "hip", "neck": "neck", "head_top": "head", "lshoulder": "lShldr", "lelbow": "lForeArm",
+    "lwrist": "lHand", "lhand_tip": "lIndex1", "lhip": "lThigh", "lknee": "lShin", "lankle": "lFoot", "ltoe": "lToe",
+}  # fmt: skip
+LAB_JOINT_MAP |= {"r" + k[1:]: "r" + v[1:] for k, v in LAB_JOINT_MAP.items() if k[0] == "l"}
+
+
+def lab_family(cmu: Bvh, seed: int = 0) -> Bvh:
+    """A CMU motion as another family would write it: joints renamed (``LAB_NAMES``) and every joint's
+    rotation channels in a new Euler order (``reorder_channels``); the same motion, so the same 42 angles."""
+    return renamed(reorder_channels(cmu, seed), LAB_NAMES)
 
 
 # T-pose offsets of a 1.75 m subject, each in its parent's canonical frame (metres)

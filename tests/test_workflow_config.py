@@ -1,6 +1,7 @@
 """The workflow's view of the config: validation, motion lists, experiments, parameter-set tags."""
 
 import copy
+import re
 
 import pytest
 import yaml
@@ -40,6 +41,13 @@ def test_shipped_configs_are_valid(name, config):
         (("rig", "n_cameras"), 1, "rig.n_cameras"),
         (("figure4", "n_r"), [4, 0], "figure4.n_r.1"),
         (("regression", "pca_variance"), 1.5, "regression.pca_variance"),
+        (("motions", "overrides"), [{"files": ["lab_*"], "jointmap": {}}], "motions.overrides.0"),  # misspelt
+        (("motions", "overrides"), [{"unit_scale": 0.01}], "motions.overrides.0"),  # no files
+        (("motions", "overrides"), [{"files": ["lab_*"]}], "motions.overrides.0"),  # changes nothing
+        (("motions", "overrides"), [{"files": "lab_*", "fps": 24}], "motions.overrides.0.files"),
+        (("motions", "overrides"), [{"files": ["a"], "drop_reference_frame": "yes"}],
+         "motions.overrides.0.drop_reference_frame"),  # fmt: skip
+        (("motions", "joint_map"), {"root": "pelvis"}, "motions.joint_map"),  # the 14 joints are required
     ],
 )
 def test_out_of_schema_value_names_the_key(config, path, value, key):
@@ -55,6 +63,32 @@ def test_unknown_key_is_refused(config):
     config["descriptor"]["n_rr"] = 4
     with pytest.raises(VoxposeError, match="config key descriptor: .*n_rr"):
         wc.validate_config(config, SCHEMA)
+
+
+MOTIONS = {"fps": 30.0, "unit_scale": None, "drop_reference_frame": "auto", "joint_map": None}
+
+
+def test_motion_settings_take_the_first_matching_override():
+    lab_map = {"root": "hip"}
+    motions = MOTIONS | {
+        "overrides": [
+            {"files": ["walk_lab_*", "idle_*"], "unit_scale": 0.01, "joint_map": lab_map},
+            {"files": ["idle_*"], "fps": 24.0, "drop_reference_frame": False},
+        ]
+    }
+    assert wc.motion_settings("walk_cmu_02_01", motions) == MOTIONS  # no entry matches: the section's keys
+    assert wc.motion_settings("walk_lab_3", motions) == MOTIONS | {"unit_scale": 0.01, "joint_map": lab_map}
+    assert wc.motion_settings("idle_x", motions) == MOTIONS | {"unit_scale": 0.01, "joint_map": lab_map}  # first
+    assert wc.motion_settings("walk_lab_3", MOTIONS) == MOTIONS  # no overrides at all
+    motions["overrides"].reverse()
+    assert wc.motion_settings("idle_x", motions) == MOTIONS | {"fps": 24.0, "drop_reference_frame": False}
+
+
+def test_the_shipped_reactidle_entry_maps_only_reactidle_files(config):
+    idle = wc.motion_settings("idle_reactidle_000_genuine", config["motions"])
+    assert idle["unit_scale"] == 1.0 and idle["joint_map"]["lwrist"] == "forearm.L/end"
+    for name in ("walk_cmu_02_01", "walk_bandai1_walk_normal_001", "walk_gen_00", "idle_bandai_x"):
+        assert wc.motion_settings(name, config["motions"]) == MOTIONS
 
 
 def test_generated_names_and_kinds():
@@ -125,16 +159,82 @@ def test_bvh_dir_errors(tmp_path):
     assert list(wc.bvh_dir_motions(tmp_path)) == ["walk_x"]
 
 
-def test_derived_source_must_exist():
-    assert wc.derived_motions([{"kind": "spiral", "source": "walk_a"}], ["walk_a"]) == {
-        "spiral_walk_a": ("spiral", "walk_a", {})
-    }
+def test_bvh_dir_may_be_a_list_of_folders(tmp_path):
+    for folder, names in {"a": ["walk_x", "jog_y"], "b": ["idle_z"], "c": ["walk_x"]}.items():
+        (tmp_path / folder).mkdir()
+        for name in names:
+            (tmp_path / folder / f"{name}.bvh").write_text("")
+    both = wc.bvh_dir_motions([tmp_path / "a", tmp_path / "b"])
+    assert both == {"jog_y": tmp_path / "a/jog_y.bvh", "walk_x": tmp_path / "a/walk_x.bvh",
+                    "idle_z": tmp_path / "b/idle_z.bvh"}  # fmt: skip
+    first, second = tmp_path / "a/walk_x.bvh", tmp_path / "c/walk_x.bvh"
+    twice = f"config key bvh_dir.1: motion 'walk_x' is in two folders: {first} and {second}"
+    with pytest.raises(VoxposeError, match=f"^{re.escape(twice)}$"):
+        wc.bvh_dir_motions([tmp_path / "a", tmp_path / "c"])
+    with pytest.raises(VoxposeError, match="^config key bvh_dir.1: .*missing is not a folder"):
+        wc.bvh_dir_motions([tmp_path / "a", tmp_path / "missing"])
+
+
+@pytest.mark.parametrize(
+    ("value", "ok"), [(None, True), ("../bvh", True), (["a", "b"], True), ([], False), ("", False), (3, False)]
+)
+def test_bvh_dir_schema(config, value, ok):
+    config["bvh_dir"] = value
+    if ok:
+        wc.validate_config(config, SCHEMA)
+    else:
+        with pytest.raises(VoxposeError, match="^config key bvh_dir: "):
+            wc.validate_config(config, SCHEMA)
+
+
+def test_derived_motions_and_absent_sources():
+    assert wc.derived_motions([{"kind": "spiral", "source": "walk_a"}], ["walk_a"]) == (
+        {"spiral_walk_a": ("spiral", "walk_a", {})},
+        [],
+    )
     turn = wc.derived_motions([{"kind": "turn", "source": "jog_b", "degrees": 90}], ["jog_b"])
-    assert turn == {"jog_b_turn090": ("turn", "jog_b", {"degrees": 90})}
+    assert turn == ({"jog_b_turn090": ("turn", "jog_b", {"degrees": 90})}, [])
     with pytest.raises(VoxposeError, match=r"derived.0: a turn needs 'degrees'"):
         wc.derived_motions([{"kind": "turn", "source": "jog_b"}], ["jog_b"])
-    with pytest.raises(VoxposeError, match=r"config key derived.0.source: no motion named 'walk_z'"):
-        wc.derived_motions([{"kind": "spiral", "source": "walk_z"}], ["walk_a"])
+    # a source not in bvh_dir (the shipped list names the shared walks): left out, and named
+    items = [{"kind": "spiral", "source": "walk_z"}, {"kind": "drunk", "source": "walk_a"},
+             {"kind": "turn", "source": "walk_z", "degrees": 45}]  # fmt: skip
+    assert wc.derived_motions(items, ["walk_a"]) == (
+        {"drunk_walk_a": ("drunk", "walk_a", {})},
+        ["spiral_walk_z", "walk_z_turn045"],
+    )
+
+
+SHIPPED = {
+    "table1": {"train": ["walk_*", "jog_*"], "exclude": ["walk_s8_*"], "test": ["spiral_walk_s8_*"]},
+    "figure4": {"train": ["walk_s2_01", "jog_b_01"], "test": ["walk_s5_*", "turnwalk_*"]},
+}
+
+
+def test_a_shipped_experiment_without_motions_is_skipped():
+    names = ["walk_s2_01", "walk_s5_01", "walk_s8_01", "turnwalk_c"]
+    experiments, skipped = wc.resolve_experiments(SHIPPED, names, "bvh_experiments", SHIPPED)
+    assert skipped == ["table1"]  # no spiral to test on
+    # figure4 keeps the patterns that match (jog_b_01 is absent): no error
+    test = ["turnwalk_c", "walk_s5_01"]
+    assert experiments == {"figure4": {"train": ["walk_s2_01"], "test_sets": {"test": test}, "test": test}}
+    # a named test set none of whose patterns match is left out with them
+    named = {"figure4": SHIPPED["figure4"] | {"test": {"held_out": ["walk_s5_*"], "spirals": ["spiral_*"]}}}
+    experiments, skipped = wc.resolve_experiments(named, names, "bvh_experiments", named)
+    assert skipped == [] and experiments["figure4"]["test_sets"] == {"held_out": ["walk_s5_01"]}
+    # training motions that are all excluded count as none
+    _, skipped = wc.resolve_experiments(SHIPPED, ["walk_s8_01", "spiral_walk_s8_01"], "bvh_experiments", SHIPPED)
+    assert skipped == ["table1", "figure4"]
+
+
+def test_the_users_own_experiment_keeps_the_strict_rules():
+    names = ["walk_s2_01", "walk_s5_01", "turnwalk_c"]
+    own = {"figure4": {"train": ["walk_s2_01", "jog_b_01"], "test": ["walk_s5_*"]}}  # differs from the shipped one
+    with pytest.raises(VoxposeError, match=r"^config key bvh_experiments.figure4.train: pattern 'jog_b_01' matches no"):
+        wc.resolve_experiments(own, names, "bvh_experiments", SHIPPED)
+    own = {"table1": {"train": ["walk_*"], "test": ["spiral_*"]}}
+    with pytest.raises(VoxposeError, match=r"^config key bvh_experiments.table1.test: pattern 'spiral_\*' matches no"):
+        wc.resolve_experiments(own, names, "bvh_experiments", SHIPPED)
 
 
 def test_tags_distinguish_parameter_sets(config):

@@ -37,34 +37,63 @@ def generated_motions(spec: dict) -> dict:
     return out
 
 
-def derived_motions(derived: list, source_names) -> dict:
+def derived_motions(derived: list, source_names) -> tuple[dict, list]:
     """Derived motion names -> (kind, source, params): ``spiral_<source>``, ``drunk_<source>`` or
-    ``<source>_turnDDD`` (``motion.derive.derived_name``); the source must be a known motion."""
+    ``<source>_turnDDD`` (``motion.derive.derived_name``), and the names left out because their source is not
+    among ``source_names`` (the shipped list names the shared data's walks; any other folder lacks them)."""
     from voxpose.motion.derive import derived_name
 
-    out = {}
+    out, absent = {}, []
     source_names = set(source_names)
     for i, item in enumerate(derived):
-        if item["source"] not in source_names:
-            raise VoxposeError(f"config key derived.{i}.source: no motion named {item['source']!r} in bvh_dir")
         params = {k: v for k, v in item.items() if k not in ("kind", "source")}
         if item["kind"] == "turn" and "degrees" not in params:
             raise VoxposeError(f"config key derived.{i}: a turn needs 'degrees'")
         if item["kind"] != "turn" and params:
             raise VoxposeError(f"config key derived.{i}: {item['kind']} takes no {', '.join(sorted(params))}")
-        out[derived_name(item["kind"], item["source"], params)] = (item["kind"], item["source"], params)
-    return out
+        name = derived_name(item["kind"], item["source"], params)
+        if item["source"] in source_names:
+            out[name] = (item["kind"], item["source"], params)
+        else:
+            absent.append(name)
+    return out, absent
+
+
+def motion_settings(name: str, motions: dict) -> dict:
+    """The settings that load motion ``name`` (``voxpose motion --params``): the ``motions`` section's keys, with
+    those of the first ``motions.overrides`` entry whose ``files`` glob patterns match the name replacing them.
+
+    One folder can mix skeleton families this way: an entry maps one family, and the motions no entry matches
+    keep the section's settings (with ``joint_map: null``, the built-in presets detect their own families).
+    The workflow passes each motion its own settings, so editing an entry reruns only the motions it matches.
+    """
+    settings = {k: v for k, v in motions.items() if k != "overrides"}
+    for entry in motions.get("overrides") or []:
+        if any(fnmatch.fnmatch(name, pattern) for pattern in entry["files"]):
+            return settings | {k: v for k, v in entry.items() if k != "files"}
+    return settings
 
 
 def bvh_dir_motions(bvh_dir) -> dict:
-    """Motion name -> path for every ``*.bvh`` in ``bvh_dir`` (an empty or missing folder is an error)."""
-    folder = Path(bvh_dir)
-    if not folder.is_dir():
-        raise VoxposeError(f"config key bvh_dir: {folder} is not a folder")
-    files = sorted(folder.glob("*.bvh"))
-    if not files:
-        raise VoxposeError(f"config key bvh_dir: no .bvh files in {folder}")
-    return {f.stem: f for f in files}
+    """Motion name -> path for every ``*.bvh`` in ``bvh_dir``, a folder or a list of folders.
+
+    A missing folder, a folder without BVH files, or a motion name (file stem) found in two folders is an error.
+    """
+    folders = [bvh_dir] if isinstance(bvh_dir, str | Path) else list(bvh_dir)
+    out = {}
+    for i, item in enumerate(folders):
+        key = "bvh_dir" if isinstance(bvh_dir, str | Path) else f"bvh_dir.{i}"
+        folder = Path(item)
+        if not folder.is_dir():
+            raise VoxposeError(f"config key {key}: {folder} is not a folder")
+        files = sorted(folder.glob("*.bvh"))
+        if not files:
+            raise VoxposeError(f"config key {key}: no .bvh files in {folder}")
+        for f in files:
+            if f.stem in out:
+                raise VoxposeError(f"config key {key}: motion {f.stem!r} is in two folders: {out[f.stem]} and {f}")
+            out[f.stem] = f
+    return out
 
 
 def match(patterns, names, key: str, *, allow_empty: bool = False) -> list:
@@ -112,6 +141,41 @@ def motion_set_tag(names) -> str:
     same training motions share one feature fit and one regressor, whatever the experiments are called."""
     digest = hashlib.sha256("\n".join(sorted(names)).encode()).hexdigest()[:10]
     return f"n{len(names)}-{digest}"
+
+
+def _has_motions(patterns, names, exclude: set) -> bool:
+    """Whether glob ``patterns`` (a list, or a mapping of lists) match a name not in ``exclude``."""
+    if isinstance(patterns, dict):
+        return any(_has_motions(p, names, exclude) for p in patterns.values())
+    return bool(set(match(patterns, names, "", allow_empty=True)) - exclude)
+
+
+def _matching_patterns(patterns, names):
+    """``patterns`` (a list, or a mapping of lists) without the patterns that match no name."""
+    if isinstance(patterns, dict):  # named test sets: a set none of whose patterns match is left out
+        return {k: kept for k, p in patterns.items() if (kept := _matching_patterns(p, names))}
+    return [p for p in patterns if fnmatch.filter(names, p)]
+
+
+def resolve_experiments(experiments: dict, names, key_prefix: str, shipped: dict) -> tuple[dict, list]:
+    """Resolved experiments by name (``resolve_experiment``), and the names of the shipped ones left out.
+
+    An experiment exactly as the shipped config.yaml defines it (``shipped``: that file's section) names the
+    motions of the data it was written for; on other data its patterns may match nothing, and when no training
+    or no test motion is left it is left out (the workflow logs it) instead of stopping the run. Any other
+    experiment is the user's own, and a pattern of it that matches nothing is an error as before.
+    """
+    names = sorted(names)
+    out, skipped = {}, []
+    for name, exp in experiments.items():
+        if exp == shipped.get(name):
+            exclude = set(match(exp.get("exclude", []), names, "", allow_empty=True))
+            if not (_has_motions(exp["train"], names, exclude) and _has_motions(exp["test"], names, exclude)):
+                skipped.append(name)
+                continue
+            exp = {k: _matching_patterns(v, names) for k, v in exp.items()}
+        out[name] = resolve_experiment(name, exp, names, key_prefix)
+    return out, skipped
 
 
 def descriptor_tag(cfg: dict) -> str:

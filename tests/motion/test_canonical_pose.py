@@ -4,11 +4,10 @@ rig writes the same motion (channel orders, rest-pose bone frames, length unit).
 import numpy as np
 import pytest
 
-from tests.helpers import random_motion, rebase_frames, set_rotation, tpose_bvh
+from tests.helpers import random_motion, rebase_frames, reorder_channels, set_rotation, tpose_bvh
 from voxpose.errors import VoxposeError
-from voxpose.io.bvh import POSITION_CHANNELS, Bvh, BvhJoint, joint_columns, read_bvh, rescaled, write_bvh
+from voxpose.io.bvh import Bvh, read_bvh, rescaled, write_bvh
 from voxpose.motion import canon
-from voxpose.motion.bvh_kinematics import local_transforms
 from voxpose.motion.canonical_pose import canonical_pose
 from voxpose.motion.joint_map import resolve_joint_map, skeleton_points
 from voxpose.motion.load import load_motion
@@ -137,26 +136,6 @@ def test_bad_input():
 
 
 # ---- invariance: the same motion written by differently built rigs ----
-
-
-def reorder_channels(bvh: Bvh, seed: int) -> Bvh:
-    """The same motion with every joint's channels in a new order (root's order unlike the others')."""
-    rng = np.random.default_rng(seed)
-    _, local = local_transforms(bvh)
-    orders = ["XYZ", "XZY", "YXZ", "YZX", "ZXY", "ZYX"]
-    joints, blocks = [], []
-    for j, joint in enumerate(bvh.joints):
-        pos, _ = joint_columns(bvh, j)
-        order = "YZX" if j == 0 else orders[rng.integers(6)]
-        values = {f"{a}rotation": v for a, v in zip(order, matrix_to_euler(local[:, j], order).T, strict=True)}
-        names = [f"{a}rotation" for a in order]
-        if pos is not None:
-            values |= {c: bvh.motion[:, col] for c, col in zip(POSITION_CHANNELS, pos, strict=True)}
-            moved = [POSITION_CHANNELS[i] for i in rng.permutation(3)]
-            names = names + moved if rng.random() < 0.5 else moved + names
-        blocks.append(np.stack([values[c] for c in names], axis=1))
-        joints.append(BvhJoint(joint.name, joint.parent, joint.offset, tuple(names), joint.end_site))
-    return Bvh(joints, bvh.frame_time, np.concatenate(blocks, axis=1))
 
 
 def bones_along_x(bvh: Bvh, seed: int) -> Bvh:

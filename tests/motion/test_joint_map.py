@@ -3,28 +3,15 @@
 import numpy as np
 import pytest
 
-from tests.helpers import random_motion, rebase_frames, set_rotation, tpose_bvh
+from tests.helpers import random_motion, rebase_frames, renamed, set_rotation, tpose_bvh
 from voxpose.errors import VoxposeError
 from voxpose.io.bvh import Bvh, BvhJoint
 from voxpose.motion import canon
+from voxpose.motion.canonical_pose import canonical_pose
 from voxpose.motion.joint_map import PRESETS, resolve_joint_map, skeleton_points
 from voxpose.motion.rotations import axis_rotation
 
 GENERATED = dict(zip(canon.JOINTS, PRESETS[1].joints, strict=True))
-
-
-def renamed(bvh: Bvh, names: dict, drop_sites=()) -> Bvh:
-    joints = [
-        BvhJoint(
-            names.get(j.name, j.name),
-            j.parent,
-            j.offset,
-            j.channels,
-            None if j.name in drop_sites else j.end_site,
-        )
-        for j in bvh.joints
-    ]
-    return Bvh(joints, bvh.frame_time, bvh.motion)
 
 
 def bandai_names(bvh: Bvh) -> Bvh:
@@ -47,11 +34,11 @@ def bandai_names(bvh: Bvh) -> Bvh:
 def test_presets_detected_from_names():
     assert resolve_joint_map(tpose_bvh("generated")).preset == "generated"
     cmu = resolve_joint_map(tpose_bvh("cmu"))
-    assert cmu.preset == "cmu" and cmu.reference_frame
+    assert cmu.preset == "cmu"
     assert dict(zip(canon.JOINTS, cmu.joints, strict=True))["neck"] == "Neck"
     assert cmu.ends == ("Head", "LeftHandIndex1", "RightHandIndex1", "LeftToeBase", "RightToeBase")
     bandai = resolve_joint_map(bandai_names(tpose_bvh()))
-    assert bandai.preset == "bandai" and not bandai.reference_frame
+    assert bandai.preset == "bandai"
     assert bandai.joints[canon.INDEX["rknee"]] == "LowerLeg_R" and bandai.ends[4] == "Toes_R"
 
 
@@ -145,3 +132,49 @@ def test_estimated_hand_tip_with_turned_bone_frames():
     joints, ends = skeleton_points(b, jmap)
     joints2, ends2 = skeleton_points(turned, jmap)
     assert np.allclose(joints2, joints, atol=1e-12) and np.allclose(ends2, ends, atol=1e-12)
+
+
+def without_hands(bvh: Bvh) -> Bvh:
+    """``bvh`` with its hand joints removed: each forearm ends in an End Site where its hand joint was."""
+    hands = {"LeftHand", "RightHand"}
+    keep = [i for i, j in enumerate(bvh.joints) if j.name not in hands]
+    new_index = {old: new for new, old in enumerate(keep)}
+    joints, columns = [], []
+    for old in keep:
+        j = bvh.joints[old]
+        hand = next((h for h in bvh.joints if h.name in hands and bvh.joints[h.parent] is j), None)
+        site = j.end_site if hand is None else hand.offset
+        joints.append(BvhJoint(j.name, new_index.get(j.parent, -1), j.offset, j.channels, site))
+        start = sum(len(bvh.joints[k].channels) for k in range(old))
+        columns += range(start, start + len(j.channels))
+    return Bvh(joints, bvh.frame_time, bvh.motion[:, columns])
+
+
+def test_a_wrist_at_the_forearms_end_site():
+    full = random_motion(n_frames=12, seed=7)
+    handless = without_hands(full)
+    assert {"LeftHand", "RightHand"}.isdisjoint(j.name for j in handless.joints)
+    given = GENERATED | {"lwrist": "LeftForeArm/end", "rwrist": "RightForeArm/end"}
+    given |= {"head_top": "Head", "ltoe": "LeftToe", "rtoe": "RightToe"}  # the preset's other ends
+    joints, ends = skeleton_points(handless, resolve_joint_map(handless, given))
+    truth, truth_ends = skeleton_points(full, resolve_joint_map(full))
+    assert np.allclose(joints, truth, atol=1e-12)  # the End Sites are where the hand joints were
+    # no hand: the hand tip continues the forearm by 0.36 of its length, so the wrist angles are zero
+    for side, e in (("l", 1), ("r", 2)):
+        forearm = joints[:, canon.INDEX[f"{side}wrist"]] - joints[:, canon.INDEX[f"{side}elbow"]]
+        assert np.allclose(ends[:, e], joints[:, canon.INDEX[f"{side}wrist"]] + 0.36 * forearm, atol=1e-12)
+    wrists = [canon.INDEX["lwrist"], canon.INDEX["rwrist"]]
+    angles = canonical_pose(joints, ends).angles.reshape(-1, canon.N_JOINTS, 3)
+    assert np.abs(angles[:, wrists]).max() < 1e-6
+    with_hands = canonical_pose(truth, truth_ends).angles.reshape(-1, canon.N_JOINTS, 3)
+    assert np.abs(with_hands[:, wrists]).max() > 5.0  # the hand joints bent the wrists
+    others = [i for i in range(canon.N_JOINTS) if i not in wrists]
+    assert np.allclose(angles[:, others], with_hands[:, others], atol=1e-9)
+
+
+def test_an_end_site_point_must_exist():
+    handless = without_hands(tpose_bvh())
+    given = GENERATED | {"lwrist": "LeftArm/end", "rwrist": "RightForeArm/end"}  # LeftArm has no End Site
+    with pytest.raises(VoxposeError, match=r"names joints not in the skeleton: \{'lwrist': 'LeftArm/end'\}; "
+                       r"skeleton joints and End Site points \(<joint>/end\): .*LeftForeArm/end"):  # fmt: skip
+        resolve_joint_map(handless, given, source="x.bvh")

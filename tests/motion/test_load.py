@@ -11,7 +11,6 @@ from voxpose.io.bvh import Bvh, joint_columns, rescaled, write_bvh
 from voxpose.motion import canon
 from voxpose.motion.joint_map import resolve_joint_map, skeleton_points
 from voxpose.motion.load import (
-    count_reference_frames,
     infer_unit,
     load_motion,
     resample,
@@ -92,7 +91,7 @@ def test_inferred_unit_is_logged(tmp_path, caplog):
 
 def cmu_style_motion(n_frames=41, blank_frames=0) -> Bvh:
     """CMU names at 120 fps: frame 0 a whole-number reference pose, then ``blank_frames`` zero frames."""
-    b = random_motion("cmu", n_frames=n_frames, seed=9)
+    b = random_motion("cmu", n_frames=n_frames, seed=9, fps=120.0)
     b.frame_time = 0.0083333
     b.motion[0] = 0.0
     b.motion[0, :3] = [0.1, 0.9, 0.0]
@@ -103,8 +102,6 @@ def cmu_style_motion(n_frames=41, blank_frames=0) -> Bvh:
 
 
 def test_reference_frames(tmp_path):
-    assert count_reference_frames(cmu_style_motion()) == 1
-    assert count_reference_frames(cmu_style_motion(blank_frames=1)) == 2
     write_bvh(cmu_style_motion(), tmp_path / "walk_cmu.bvh", precision=17)
     auto = load_motion(tmp_path / "walk_cmu.bvh")
     assert auto.source["dropped_frames"] == 1 and auto.source["skeleton"] == "cmu"
@@ -119,16 +116,12 @@ def test_reference_frames(tmp_path):
     assert load_motion(tmp_path / "walk_blank.bvh").source["dropped_frames"] == 2
 
 
-def test_reference_frames_only_dropped_for_presets_that_have_them(tmp_path):
+def test_true_drops_frame_0_even_when_it_is_not_a_reference_pose(tmp_path):
     b = random_motion("generated", n_frames=12, seed=2)
-    b.motion[0, 3:] = 0.0  # a whole-number first frame of a generated motion is motion, not a reference
     write_bvh(b, tmp_path / "jog_gen_00.bvh", precision=17)
     assert load_motion(tmp_path / "jog_gen_00.bvh").source["dropped_frames"] == 0
     forced = load_motion(tmp_path / "jog_gen_00.bvh", drop_reference_frame=True)
     assert forced.source["dropped_frames"] == 1
-    b.motion[0, 3:] = 0.5  # True drops frame 0 even when it does not look like a reference pose
-    write_bvh(b, tmp_path / "jog_gen_01.bvh", precision=17)
-    assert load_motion(tmp_path / "jog_gen_01.bvh", drop_reference_frame=True).source["dropped_frames"] == 1
 
 
 def test_motion_data_contents(tmp_path):
@@ -168,11 +161,13 @@ def test_bad_arguments(tmp_path, kwargs, message):
         load_motion(tmp_path / "walk_a.bvh", **kwargs)
 
 
-def test_only_reference_frames_is_an_error(tmp_path):
-    b = tpose_bvh("cmu", n_frames=3)
-    write_bvh(b, tmp_path / "walk_ref.bvh")
-    with pytest.raises(VoxposeError, match="no motion frames left after dropping 3 reference frame"):
-        load_motion(tmp_path / "walk_ref.bvh")
+def test_only_reference_frames(tmp_path):
+    # a T-pose with nothing after it is the motion (auto); dropping the only frame is an error
+    write_bvh(tpose_bvh("cmu", n_frames=3), tmp_path / "walk_ref.bvh")
+    assert load_motion(tmp_path / "walk_ref.bvh").source["dropped_frames"] == 0
+    write_bvh(tpose_bvh("cmu", n_frames=1), tmp_path / "walk_one.bvh")
+    with pytest.raises(VoxposeError, match="no motion frames left after dropping 1 reference frame"):
+        load_motion(tmp_path / "walk_one.bvh", drop_reference_frame=True)
 
 
 def test_position_channels_are_metres_after_scaling(tmp_path):

@@ -10,7 +10,10 @@ offsets reproduces the joints relative to the root within 1.5-12 mm on average p
 import numpy as np
 import pytest
 
-from voxpose.io.bvh import joint_columns, read_bvh
+from tests.helpers import LAB_JOINT_MAP, lab_family
+from voxpose import workflow_config as wc
+from voxpose.errors import VoxposeError
+from voxpose.io.bvh import joint_columns, read_bvh, write_bvh
 from voxpose.motion import canon
 from voxpose.motion.load import load_motion, source_frame_rate
 from voxpose.motion.pose_kinematics import forward_kinematics as pose_forward_kinematics
@@ -87,3 +90,26 @@ def test_walks_have_continuous_angles(shared):
     for name, (_, m) in shared.items():
         if name.startswith(("walk_", "turnwalk_")):
             assert np.abs(np.diff(m.angles, axis=0)).max() < 45.0, name
+
+
+MOTIONS = {"fps": 30.0, "unit_scale": None, "drop_reference_frame": "auto", "joint_map": None}
+
+
+@pytest.mark.parametrize("name", ["walk_cmu_07_12", "jump_cmu_01_01"])
+def test_a_fourth_family_loads_through_an_override_entry_with_the_original_angles(shared_bvh_dir, tmp_path, name):
+    # the CMU file with renamed joints and other Euler orders, written as a lab's exporter would (6 digits)
+    kind, _, subject, take = name.split("_")
+    lab = f"{kind}_lab_{subject}_{take}"
+    write_bvh(lab_family(read_bvh(shared_bvh_dir / f"{name}.bvh"), seed=5), tmp_path / f"{lab}.bvh")
+    with pytest.raises(VoxposeError, match="unknown skeleton"):
+        load_motion(tmp_path / f"{lab}.bvh")
+    motions = MOTIONS | {"overrides": [{"files": ["*_lab_*"], "joint_map": LAB_JOINT_MAP}]}
+    assert wc.motion_settings(name, motions) == MOTIONS
+    loaded = load_motion(tmp_path / f"{lab}.bvh", **wc.motion_settings(lab, motions))
+    original = load_motion(shared_bvh_dir / f"{name}.bvh")
+    assert loaded.source["skeleton"] == "config" and original.source["skeleton"] == "cmu"
+    # its reference frames are no longer whole numbers, and are found all the same
+    assert loaded.source["dropped_frames"] == original.source["dropped_frames"] == (2 if name.endswith("12") else 1)
+    assert loaded.n_frames == original.n_frames and loaded.height == pytest.approx(original.height, rel=1e-5)
+    assert np.abs(loaded.angles - original.angles).max() < 0.01  # degrees
+    assert np.abs(original.angles).max() > 30.0

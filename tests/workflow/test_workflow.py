@@ -47,12 +47,17 @@ def scheduled(workdir, *configfiles, args=()) -> dict:
     return {m.group(1): int(m.group(2)) for m in rows if m.group(1) != "total"}
 
 
-@pytest.fixture(scope="module")
-def workflow_dir(tmp_path_factory):
-    work = tmp_path_factory.mktemp("workflow")
+def copy_workflow(work: Path) -> Path:
+    """A copy of the workflow and the package in ``work``, to run Snakemake in."""
     for item in ("Snakefile", "workflow", "config", "voxpose"):
         src = ROOT / item
         (shutil.copytree if src.is_dir() else shutil.copy)(src, work / item)
+    return work
+
+
+@pytest.fixture(scope="module")
+def workflow_dir(tmp_path_factory):
+    work = copy_workflow(tmp_path_factory.mktemp("workflow"))
     snakemake(work)
     return work
 
@@ -133,6 +138,15 @@ def test_changing_r_max_reruns_descriptors_onward_not_carving(workflow_dir):
     jobs = scheduled(workflow_dir, _override(workflow_dir, "r", "descriptor:\n  r_max: 0.3\n"))
     assert {"describe", "fit_features", "features", "regress", "table1"} <= set(jobs)
     assert not {"generate_bvh", "motion", "rig", "voxelize"} & set(jobs)
+
+
+def test_an_override_entry_reruns_only_the_motions_it_matches(workflow_dir):
+    entry = "motions:\n  overrides:\n    - files: ['walk_gen_00']\n      fps: 25.0\n"
+    jobs = scheduled(workflow_dir, _override(workflow_dir, "motion_entry", entry))
+    assert jobs["motion"] == 1 and {"voxelize", "describe", "regress"} <= set(jobs)
+    assert "generate_bvh" not in jobs
+    # the shipped entry (ReActIdle files) matches no generated motion: without it nothing changes
+    assert scheduled(workflow_dir, _override(workflow_dir, "no_entries", "motions:\n  overrides: []\n")) == {}
 
 
 def test_a_changed_rig_under_a_new_name_reruns_from_carving(workflow_dir):

@@ -54,7 +54,8 @@ from voxpose.motion import canon
 from voxpose.motion.bvh_kinematics import forward_kinematics
 from voxpose.motion.generate import GRAVITY, random_walk_heading, smooth_noise, spiral_heading, spiral_radius
 from voxpose.motion.joint_map import resolve_joint_map, skeleton_points
-from voxpose.motion.load import count_reference_frames, infer_unit, standing_height
+from voxpose.motion.load import infer_unit, standing_height
+from voxpose.motion.reference_pose import leading_reference_frames
 from voxpose.motion.rotations import (
     axis_angle_to_matrix,
     axis_rotation,
@@ -75,13 +76,12 @@ def infer_walk_unit(bvh: Bvh, source: str = "BVH", fk=None) -> float:
 
 
 def captured_frames(bvh: Bvh, source: str = "BVH") -> Bvh:
-    """``bvh`` without its leading reference-pose frames, when its skeleton preset has them (CMU).
+    """``bvh`` without its leading reference-pose frames (``reference_pose``; CMU's frame 0).
 
-    The same rule as ``motion_loader``'s ``drop_reference_frame="auto"``: the frames are not motion, and
-    once turned by a transform they would no longer look like reference frames to the loader.
+    The same rule as ``load_motion``'s ``drop_reference_frame="auto"``: the frames are not motion, and
+    once moved by a transform they would no longer stand out from the motion's first frame.
     """
-    jmap = resolve_joint_map(bvh, source=source)
-    first = count_reference_frames(bvh) if jmap.reference_frame else 0
+    first = leading_reference_frames(*skeleton_points(bvh, resolve_joint_map(bvh, source=source)))
     return bvh if first == 0 else Bvh(joints=bvh.joints, frame_time=bvh.frame_time, motion=bvh.motion[first:])
 
 

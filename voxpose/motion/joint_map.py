@@ -8,7 +8,7 @@ Built-in presets, detected from the joint names (a preset fits when every joint 
   neck of the Bandai and generated skeletons (base of the neck) and keeps the head segment
   (neck -> head top) the whole head and neck, as the body model draws it. Ends: ``Head``'s End Site,
   the index finger's End Site (``LeftHandIndex1``; about the knuckles), ``LeftToeBase``'s End Site.
-  The files start with a reference-pose frame (see ``motion_loader``).
+  The files start with a reference-pose frame (``voxpose.motion.reference_pose``).
 * ``generated``: the skeleton of ``voxpose.motion.generate`` (CMU-like names, ``LeftToe``, End Sites
   on ``Head``, the hands and the toes).
 * ``bandai``: the Bandai Namco Research Motion Dataset (22 joints); the root is ``Hips`` (the static top
@@ -18,6 +18,14 @@ Built-in presets, detected from the joint names (a preset fits when every joint 
 Any other skeleton needs a map from the config, ``{canonical name: source joint name}`` for the 14 joints
 and optionally the ends. Extra source joints (fingers, eyes, spine segments, clavicles) are ignored:
 they still move the mapped joints through forward kinematics.
+
+End Site points. A value ``<joint>/end`` names the point at ``<joint>``'s End Site, for skeletons whose
+chains stop short of a canonical joint: a rig with no hand joints, whose forearm ends in an End Site at
+the wrist, maps ``lwrist: forearm.L/end``. The point moves rigidly with ``<joint>`` (its world rotation is
+``<joint>``'s, its incoming bone the End Site offset), so an end estimated from it continues that bone:
+with no hand the hand tip continues the forearm, and the wrist angles are those of a straight wrist.
+The canonical angles are measured towards the mapped points and ends (``canonical_pose``), so the map
+defines them: a wrist angle points the wrist frame at the mapped hand tip, a neck angle at the head top.
 
 An end named as source joint ``N`` is ``N``'s End Site. When ``N`` has no End Site or a zero-length one,
 or no ``N`` is given (then ``N`` is the end's anchor: the neck for the head top, the wrist for a hand
@@ -43,7 +51,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from voxpose.errors import VoxposeError
-from voxpose.io.bvh import Bvh
+from voxpose.io.bvh import Bvh, BvhJoint
 from voxpose.motion import canon
 from voxpose.motion.bvh_kinematics import forward_kinematics, rest_pose
 
@@ -56,6 +64,7 @@ _END_RULES = {
     "rtoe": ("rankle", 0.42, ("rknee", "rankle")),
 }
 _ZERO = 1e-9
+END_SITE_SUFFIX = "/end"  # "<joint>/end": the point at that joint's End Site (module docstring)
 
 
 @dataclass(frozen=True)
@@ -67,23 +76,20 @@ class JointMap:
     preset : ``"cmu"``, ``"generated"``, ``"bandai"`` or ``"config"``.
     joints : 14 source joint names in ``motion.canon.JOINTS`` order.
     ends : 5 source joint names (or None: estimated from the anchor) in ``motion.canon.ENDS`` order.
-    reference_frame : whether files of this kind start with reference-pose frames to drop.
     """
 
     preset: str
     joints: tuple[str, ...]
     ends: tuple[str | None, ...]
-    reference_frame: bool = False
 
 
-def _preset(name: str, central: dict, left: dict, right_of, reference_frame: bool = False) -> JointMap:
+def _preset(name: str, central: dict, left: dict, right_of) -> JointMap:
     """A preset from its central names, its left-side names (keys ``l...``) and the left -> right rename."""
     names = {**central, **left, **{"r" + key[1:]: right_of(n) for key, n in left.items()}}
     return JointMap(
         preset=name,
         joints=tuple(names[j] for j in canon.JOINTS),
         ends=tuple(names[e] for e in canon.ENDS),
-        reference_frame=reference_frame,
     )
 
 
@@ -101,7 +107,6 @@ PRESETS = (
         {"root": "Hips", "neck": "Neck", "head_top": "Head"},
         {**_CMU_LEFT, "lhand_tip": "LeftHandIndex1", "ltoe": "LeftToeBase"},
         lambda n: n.replace("Left", "Right"),
-        reference_frame=True,
     ),
     _preset(
         "generated",
@@ -147,11 +152,12 @@ def _from_config(bvh: Bvh, joint_map, source: str) -> JointMap:
     missing = [j for j in canon.JOINTS if j not in joint_map]
     if missing:
         raise VoxposeError(f"{source}: joint_map lacks {', '.join(missing)}; it must name all 14 joints")
-    names = {j.name for j in bvh.joints}
+    names = {j.name for j in bvh.joints} | set(_end_site_points(bvh))
     bad = {k: v for k, v in joint_map.items() if not isinstance(v, str) or v not in names}
     if bad:
         raise VoxposeError(
-            f"{source}: joint_map names joints not in the skeleton: {bad}; skeleton joints: {', '.join(sorted(names))}"
+            f"{source}: joint_map names joints not in the skeleton: {bad}; skeleton joints and End Site points "
+            f"(<joint>{END_SITE_SUFFIX}): {', '.join(sorted(names))}"
         )
     values = [joint_map[j] for j in canon.JOINTS]
     twice = sorted({v for v in values if values.count(v) > 1})
@@ -180,6 +186,34 @@ def resolve_joint_map(bvh: Bvh, joint_map: dict | None = None, *, source: str = 
         f"which could not match {', '.join(lacking)}); "
         f"add joint_map: {_example_map()} to the motions section of the config"
     )
+
+
+def _end_site_points(bvh: Bvh) -> dict[str, int]:
+    """``{"<joint>/end": joint index}`` for the joints with a non-zero End Site (unless a joint has that name)."""
+    names = {j.name for j in bvh.joints}
+    return {
+        j.name + END_SITE_SUFFIX: i
+        for i, j in enumerate(bvh.joints)
+        if j.end_site is not None and np.linalg.norm(j.end_site) > _ZERO and j.name + END_SITE_SUFFIX not in names
+    }
+
+
+def _with_end_site_points(bvh: Bvh, jmap: JointMap, fk) -> tuple[Bvh, tuple]:
+    """``bvh`` and its forward kinematics ``fk`` with each End Site point the map names appended as a joint.
+
+    The appended joint is a child of the End Site's joint with the End Site as OFFSET and no channels (so the
+    motion columns do not change), positioned at the End Site and rotated with its joint.
+    """
+    points = _end_site_points(bvh)
+    used = [n for n in dict.fromkeys(_names_used(jmap)) if n in points]
+    if not used:
+        return bvh, fk
+    positions, rotations, end_sites = fk
+    parents = [points[n] for n in used]
+    joints = list(bvh.joints) + [BvhJoint(n, p, bvh.joints[p].end_site, ()) for n, p in zip(used, parents, strict=True)]
+    positions = np.concatenate([positions, np.stack([end_sites[p] for p in parents], axis=1)], axis=1)
+    rotations = np.concatenate([rotations, rotations[:, parents]], axis=1)
+    return Bvh(joints, bvh.frame_time, bvh.motion), (positions, rotations, end_sites)
 
 
 def _indices(bvh: Bvh, names) -> list[int | None]:
@@ -252,7 +286,8 @@ def skeleton_points(bvh: Bvh, jmap: JointMap, fk=None) -> tuple[np.ndarray, np.n
 
     ``fk`` is ``kinematics.forward_kinematics(bvh)`` when already computed.
     """
-    positions, rotations, end_sites = forward_kinematics(bvh) if fk is None else fk
+    bvh, fk = _with_end_site_points(bvh, jmap, forward_kinematics(bvh) if fk is None else fk)
+    positions, rotations, end_sites = fk
     joints = positions[:, _indices(bvh, jmap.joints)]
     ends = np.empty((positions.shape[0], len(canon.ENDS), 3))
     if positions.shape[0] == 0:

@@ -4,12 +4,10 @@ Steps: ``io.bvh.read_bvh`` -> joint map (``joint_map``) -> forward kinematics of
 (``kinematics``) -> the 14 joints and 5 ends -> drop leading reference frames -> metres -> resample to
 ``fps`` -> canonical rotations, y' and offsets (``canonical_pose``).
 
-Reference frames. CMU's cgspeed conversion puts a reference pose in frame 0 (every rotation a whole number
-of degrees: 0, -21, 21, ...), and ``walk_cmu_07_12`` follows it with an all-zero frame. Captured frames
-never have all-whole rotations, so "reference frames" are the leading frames whose rotation channels are
-all whole numbers (within 1e-6 degrees, so that a re-export in another Euler order still counts).
-``drop_reference_frame="auto"`` drops them when the skeleton's preset says its files carry them (CMU);
-``True`` drops them and at least frame 0; ``False`` keeps every frame.
+Reference frames. A leading T- or A-pose unlike the frame after it (CMU's cgspeed conversions have one, and
+``walk_cmu_07_12`` a second) is found by geometry on any rig (``reference_pose.leading_reference_frames``).
+``drop_reference_frame="auto"`` drops those frames; ``True`` drops them and at least frame 0; ``False`` keeps
+every frame.
 
 Units. ``unit_scale`` (metres per file unit) when given; otherwise inferred from the standing height in
 file units (``standing_height``): the first of 1 (metres), 0.01 (cm), 0.001 (mm), 0.0254 (inches) and
@@ -43,12 +41,13 @@ from pathlib import Path
 import numpy as np
 
 from voxpose.errors import VoxposeError
-from voxpose.io.bvh import Bvh, joint_columns, read_bvh
+from voxpose.io.bvh import read_bvh
 from voxpose.motion import canon
 from voxpose.motion.bvh_kinematics import forward_kinematics
 from voxpose.motion.canonical_pose import canonical_pose
 from voxpose.motion.data import MotionData, kind_of
-from voxpose.motion.joint_map import JointMap, resolve_joint_map, skeleton_points
+from voxpose.motion.joint_map import resolve_joint_map, skeleton_points
+from voxpose.motion.reference_pose import leading_reference_frames
 
 log = logging.getLogger(__name__)
 
@@ -81,16 +80,6 @@ def infer_unit(height_units: float) -> tuple[float, str]:
     return FALLBACK_HEIGHT / height_units, "fallback"
 
 
-def count_reference_frames(bvh: Bvh) -> int:
-    """Number of leading frames whose rotation channels are all whole numbers (within 1e-6 degrees)."""
-    cols = [c for j in range(len(bvh.joints)) for c in (joint_columns(bvh, j)[1] or [])]
-    if not cols:
-        return 0
-    rot = bvh.motion[:, cols]
-    whole = np.all(np.abs(rot - np.round(rot)) <= 1e-6, axis=1)
-    return int(np.argmin(whole)) if not np.all(whole) else bvh.n_frames
-
-
 def source_frame_rate(frame_time: float) -> float:
     """Frames per second of a file, snapped to a whole number when within 0.01% of one."""
     rate = 1.0 / frame_time
@@ -119,11 +108,11 @@ def _positive(value) -> bool:
     return isinstance(value, numbers.Real) and not isinstance(value, bool) and 0 < value < np.inf
 
 
-def _frames_to_drop(bvh: Bvh, jmap: JointMap, option, path: Path) -> int:
+def _frames_to_drop(joints: np.ndarray, ends: np.ndarray, option, path: Path) -> int:
     if option == "auto":
-        return count_reference_frames(bvh) if jmap.reference_frame else 0
+        return leading_reference_frames(joints, ends)
     if option is True:
-        return max(count_reference_frames(bvh), 1)
+        return max(leading_reference_frames(joints, ends), 1)
     if option is False:
         return 0
     raise VoxposeError(f"{path}: drop_reference_frame must be auto, true or false, got {option!r}")
@@ -147,10 +136,10 @@ def load_motion(path, *, fps=30.0, unit_scale=None, joint_map=None, drop_referen
         raise VoxposeError(f"{path}: unit_scale must be a positive number of metres per unit, got {unit_scale!r}")
     bvh = read_bvh(path)
     jmap = resolve_joint_map(bvh, joint_map, source=str(path))
-    dropped = _frames_to_drop(bvh, jmap, drop_reference_frame, path)
+    joints, ends = skeleton_points(bvh, jmap, forward_kinematics(bvh))
+    dropped = _frames_to_drop(joints, ends, drop_reference_frame, path)
     if dropped >= bvh.n_frames:
         raise VoxposeError(f"{path}: no motion frames left after dropping {dropped} reference frame(s)")
-    joints, ends = skeleton_points(bvh, jmap, forward_kinematics(bvh))
     joints, ends = joints[dropped:], ends[dropped:]
 
     height_units = standing_height(joints, ends)

@@ -47,7 +47,7 @@ rule motion:
     output:
         "results/motions/{motion}.h5",
     params:
-        cfg=arg(config["motions"]),
+        cfg=lambda w: arg(wc.motion_settings(w.motion, config["motions"])),  # the motion's own: overrides
         code=code("motion"),
     log:
         "results/logs/motion/{motion}.log",
