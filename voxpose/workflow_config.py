@@ -178,6 +178,49 @@ def resolve_experiments(experiments: dict, names, key_prefix: str, shipped: dict
     return out, skipped
 
 
+def _lineage(name: str, sources: dict) -> list:
+    """``name`` and the motions it was derived from (``sources``: derived motion -> its source), nearest first."""
+    out = [name]
+    while out[-1] in sources and sources[out[-1]] not in out:
+        out.append(sources[out[-1]])
+    return out
+
+
+def resolve_generalisation(section: dict, names, key: str, sources: dict, shipped: dict) -> tuple[dict, list]:
+    """Held-out-group experiments of a ``generalisation`` section, by group name, and the groups left out.
+
+    The pool is the motions matching ``section["train"]``; a group is the pool motions that match its ``files``
+    patterns, or whose source does (``sources``: derived motion -> source, so a derived walk follows its source's
+    subject whatever its name). Holding a group out trains on the rest of the pool and tests on the group
+    (``resolve_experiment``'s shape; the one test set is named after the group). A pool motion in no group is
+    always trained on; one in two groups, a group with no motion and a group that leaves no training motion are
+    errors naming the key. A section exactly as shipped (``shipped``) leaves those groups out instead.
+    """
+    lenient = section == shipped
+    names = sorted(names)
+    pool = match(section["train"], names, f"{key}.train", allow_empty=lenient)
+    seen, out, skipped = {}, {}, []
+    for i, group in enumerate(section["groups"]):
+        name, gkey = group["name"], f"{key}.groups.{i}"
+        if [g["name"] for g in section["groups"][:i]].count(name):
+            raise VoxposeError(f"config key {gkey}.name: group {name!r} is named twice")
+        members = [m for m in pool
+                   if any(fnmatch.fnmatch(n, p) for n in _lineage(m, sources) for p in group["files"])]  # fmt: skip
+        for m in members:
+            if m in seen:
+                raise VoxposeError(f"config key {gkey}.files: motion {m!r} is in two groups, {seen[m]} and {name}")
+            seen[m] = name
+        train = [m for m in pool if m not in members]
+        if not (members and train):
+            why = "matches no motion of the pool" if not members else "leaves no training motion when held out"
+            if lenient:
+                skipped.append(name)
+                continue
+            raise VoxposeError(f"config key {gkey}.files: group {name!r} {why} ({key}.train)")
+        out[name] = {"train": train, "test_sets": {name: members}, "test": members}
+    return out, skipped
+
+
 def descriptor_tag(cfg: dict) -> str:
     """Readable directory name of a descriptor parameter set (Section 4)."""
     return DescriptorSettings.from_config(cfg).tag()

@@ -38,16 +38,25 @@ try:
                   f"not in bvh_dir: {', '.join(absent)}")  # fmt: skip
         GENERATED = {}
         EXPERIMENT_CFG, EXPERIMENT_KEY = config["bvh_experiments"], "bvh_experiments"
+        GENERALISATION_KEY = "bvh_generalisation"
     else:
         SOURCE_BVH, DERIVED = {}, {}
         GENERATED = wc.generated_motions(config["generated"])
         EXPERIMENT_CFG, EXPERIMENT_KEY = config["experiments"], "experiments"
+        GENERALISATION_KEY = "generalisation"
     MOTIONS = sorted([*SOURCE_BVH, *DERIVED, *GENERATED])
     SHIPPED = yaml.safe_load(Path(workflow.source_path("../../config/config.yaml")).read_text())
     EXPERIMENTS, SKIPPED = wc.resolve_experiments(EXPERIMENT_CFG, MOTIONS, EXPERIMENT_KEY, SHIPPED[EXPERIMENT_KEY])
     for name in SKIPPED:
         _note(f"{EXPERIMENT_KEY}.{name}: skipped, no training or no test motion among the {len(MOTIONS)} motions "
               f"(the shipped experiment names the shared data's motions; define your own in {EXPERIMENT_KEY})")  # fmt: skip
+    HELD_OUT, GROUPS_SKIPPED = wc.resolve_generalisation(
+        config[GENERALISATION_KEY], MOTIONS, GENERALISATION_KEY, {m: d[1] for m, d in DERIVED.items()},
+        SHIPPED[GENERALISATION_KEY],
+    )
+    if GROUPS_SKIPPED:
+        _note(f"{GENERALISATION_KEY}: skipped {len(GROUPS_SKIPPED)} groups with no motion or no training motion "
+              f"left among the {len(MOTIONS)} motions: {', '.join(GROUPS_SKIPPED)}")  # fmt: skip
     CLAIM_RIGS = wc.claims_rigs(config["claims"], config["rig"])
     DEGRADED = wc.degraded_sets(config["claims"], config["rig"]["name"], wc.rig_camera_count(config["rig"]))
     wc.check_rig_names(
@@ -59,16 +68,24 @@ try:
 except VoxposeError as err:
     _fail(err)
 
+def held_out(group):
+    """The internal experiment that holds out generalisation group ``group`` (a name no config experiment has)."""
+    return f"held_out.{group}"
+
+
 # Fits are cached by content: an experiment's features and regressor live under the tag of its training motions
 # (wc.motion_set_tag), so experiments with the same training set share them; each test set is evaluated under the
 # tag of its own motions. SETS: tag -> motions; TRAIN: experiment -> training tag; TESTS: experiment -> {set: tag}.
-TRAIN = {exp: wc.motion_set_tag(e["train"]) for exp, e in EXPERIMENTS.items()}
-TESTS = {exp: {s: wc.motion_set_tag(m) for s, m in e["test_sets"].items()} for exp, e in EXPERIMENTS.items()}
+# Each held-out group of the generalisation section is an experiment like the others (RUNS): it trains on the
+# rest of the pool and tests on the group.
+RUNS = EXPERIMENTS | {held_out(group): e for group, e in HELD_OUT.items()}
+TRAIN = {exp: wc.motion_set_tag(e["train"]) for exp, e in RUNS.items()}
+TESTS = {exp: {s: wc.motion_set_tag(m) for s, m in e["test_sets"].items()} for exp, e in RUNS.items()}
 # a left-out experiment's paths name the empty set, so that the rules wired to it still parse; final_targets()
 # leaves its artifacts out, so nothing asks for them
 TRAIN |= {exp: wc.motion_set_tag([]) for exp in SKIPPED}
 TESTS |= {exp: {"test": wc.motion_set_tag([])} for exp in SKIPPED}
-SETS = {wc.motion_set_tag(m): m for e in EXPERIMENTS.values() for m in (e["train"], *e["test_sets"].values())}
+SETS = {wc.motion_set_tag(m): m for e in RUNS.values() for m in (e["train"], *e["test_sets"].values())}
 
 RIG = config["rig"]["name"]
 RIG_SECTIONS = {RIG: config["rig"], **CLAIM_RIGS}
@@ -237,4 +254,6 @@ def final_targets():
     ]
     artifacts = [path for exps, paths in needs if set(exps) <= set(EXPERIMENTS) for path in paths]
     artifacts += [f"results/tables/experiments/{exp}.csv" for exp in EXPERIMENTS]
+    if HELD_OUT:
+        artifacts += ["results/tables/generalisation.csv", "results/figures/generalisation.png"]
     return artifacts + [f"results/motions/{motion}.h5" for motion in MOTIONS]

@@ -1,4 +1,5 @@
-# Table 1 (one test motion type, MPPCA vs K-means vs Agarwal & Triggs) and Table 2 (five motion types at once).
+# Table 1 (one test motion type, MPPCA vs K-means vs Agarwal & Triggs), Table 2 (five motion types at once), the
+# per-experiment tables and the subject-held-out (generalisation) table.
 
 
 rule table1:
@@ -65,3 +66,30 @@ rule experiment_table:
         runtime=2,
     shell:
         "voxpose experiment-table --name {wildcards.exp} {params.sets} --csv {output.csv} --md {output.md} --log {log}"
+
+
+rule generalisation_table:
+    input:
+        lambda w: [f"{test_dir(held_out(g), DESC, feat)}/summary.json" for g in HELD_OUT for feat in (MPPCA, KMEANS)],
+    output:
+        csv=report("results/tables/generalisation.csv", caption="../report/generalisation_table.rst",
+                   category="Generalisation"),  # fmt: skip
+        md="results/tables/generalisation.md",
+        png=report("results/figures/generalisation.png", caption="../report/generalisation.rst",
+                   category="Generalisation"),  # fmt: skip
+    params:
+        groups=" ".join(
+            f"--held-out {g} {test_dir(held_out(g), DESC, MPPCA)}/summary.json"
+            f" {test_dir(held_out(g), DESC, KMEANS)}/summary.json"
+            for g in HELD_OUT
+        ),
+        code=code("generalisation-table"),
+    log:
+        "results/logs/generalisation_table.log",
+    localrule: True
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=2,
+    shell:
+        "voxpose generalisation-table {params.groups} --csv {output.csv} --md {output.md} --png {output.png} --log {log}"
