@@ -53,16 +53,17 @@ def test_planted_summaries_give_exactly_one_row_per_group_and_method():
 
 def test_a_group_named_twice_is_refused():
     a = planted()[0]
-    with pytest.raises(VoxposeError, match=r"^--held-out: a group is named twice \(s1, s1\)$"):
+    with pytest.raises(VoxposeError, match=r"^--runs: a group is named twice \(s1, s1\)$"):
         generalisation_table([a, a])
 
 
 def test_the_command_writes_the_table_markdown_and_a_readable_figure(tmp_path):
-    args = ["generalisation-table"]
+    runs = []
     for name, mppca, kmeans in planted():
         for tag, s in (("mppca", mppca), ("kmeans", kmeans)):
             (tmp_path / f"{name}_{tag}.json").write_text(json.dumps(s))
-        args += ["--held-out", name, str(tmp_path / f"{name}_mppca.json"), str(tmp_path / f"{name}_kmeans.json")]
+        runs.append([name, str(tmp_path / f"{name}_mppca.json"), str(tmp_path / f"{name}_kmeans.json")])
+    args = ["generalisation-table", "--runs", json.dumps(runs)]
     out = {k: tmp_path / f"generalisation.{k}" for k in ("csv", "md", "png")}
     assert main([*args, "--csv", str(out["csv"]), "--md", str(out["md"]), "--png", str(out["png"])]) == 0
     expected = pd.DataFrame(EXPECTED, columns=COLUMNS)

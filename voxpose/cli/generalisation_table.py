@@ -1,15 +1,14 @@
 """``voxpose generalisation-table``: the subject-held-out results, one row per (held-out group, method), as CSV,
 Markdown and a figure."""
 
+import json
+
 NAME = "generalisation-table"
 HELP = "errors per held-out group and method (CSV + Markdown + figure)"
 
 
 def add_arguments(p):
-    p.add_argument(
-        "--held-out", nargs=3, action="append", required=True, metavar=("GROUP", "MPPCA", "KMEANS"),
-        help="a held-out group's name and the summary.json of its MPPCA and K-means runs (repeatable)",
-    )  # fmt: skip
+    p.add_argument("--runs", required=True, help="JSON list of [group, MPPCA summary.json, K-means summary.json]")
     p.add_argument("--csv", required=True)
     p.add_argument("--md", required=True)
     p.add_argument("--png", required=True)
@@ -19,7 +18,7 @@ def run(args):
     from voxpose.evaluation.generalisation import generalisation_figure, generalisation_table
     from voxpose.evaluation.tables import read_summary, write_table
 
-    groups = [(name, read_summary(mppca), read_summary(kmeans)) for name, mppca, kmeans in args.held_out]
+    groups = [(name, read_summary(mppca), read_summary(kmeans)) for name, mppca, kmeans in json.loads(args.runs)]
     df = generalisation_table(groups)
     write_table(df, args.csv, args.md, "Generalisation: each group held out in turn, RMS error (degrees) and "
                 "joint position error (mm) on the held-out group")  # fmt: skip

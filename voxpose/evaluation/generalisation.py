@@ -36,7 +36,7 @@ def generalisation_table(groups: list) -> pd.DataFrame:
     mpjpe_mm."""
     by_group = {name: (mppca, kmeans) for name, mppca, kmeans in groups}
     if len(by_group) != len(groups):
-        raise VoxposeError(f"--held-out: a group is named twice ({', '.join(g[0] for g in groups)})")
+        raise VoxposeError(f"--runs: a group is named twice ({', '.join(g[0] for g in groups)})")
     df = experiment_table(by_group).rename(columns={"test_set": "held_out"})
     df.insert(3, "train_frames", [by_group[g][0]["train_frames"] for g in df["held_out"]])
     return df

@@ -78,11 +78,8 @@ rule generalisation_table:
         png=report("results/figures/generalisation.png", caption="../report/generalisation.rst",
                    category="Generalisation"),  # fmt: skip
     params:
-        groups=" ".join(
-            f"--held-out {g} {test_dir(held_out(g), DESC, MPPCA)}/summary.json"
-            f" {test_dir(held_out(g), DESC, KMEANS)}/summary.json"
-            for g in HELD_OUT
-        ),
+        runs=arg([[g, *(f"{test_dir(held_out(g), DESC, feat)}/summary.json" for feat in (MPPCA, KMEANS))]
+                  for g in HELD_OUT]),  # fmt: skip
         code=code("generalisation-table"),
     log:
         "results/logs/generalisation_table.log",
@@ -92,4 +89,4 @@ rule generalisation_table:
         mem_mb=1000,
         runtime=2,
     shell:
-        "voxpose generalisation-table {params.groups} --csv {output.csv} --md {output.md} --png {output.png} --log {log}"
+        "voxpose generalisation-table --runs {params.runs} --csv {output.csv} --md {output.md} --png {output.png} --log {log}"
