@@ -11,6 +11,7 @@ from voxpose.motion.generate import (
     JOINT_NAMES,
     KINDS,
     _toe_rocker,
+    default_motion,
     default_skeleton,
     generate_motion,
     leg_ik,
@@ -18,7 +19,6 @@ from voxpose.motion.generate import (
     smooth_noise,
     spiral_heading,
     spiral_radius,
-    write_default_set,
 )
 from voxpose.motion.load import load_motion
 from voxpose.motion.rotations import axis_angle_to_matrix, axis_rotation
@@ -317,42 +317,18 @@ def test_written_files_read_back_the_same(tmp_path, motions):
     assert back.frame_time == pytest.approx(1 / FPS)
 
 
-def test_default_set_names_seeds_and_determinism(tmp_path):
-    spec = {
-        "walk": {"count": 2, "frames": 12},
-        "jump": {"count": 1, "frames": 15, "fps": 25},
-        "jog": {"count": 0, "frames": 5},
-    }
-    paths = write_default_set(tmp_path / "a", spec, seed=11)
-    assert [p.name for p in paths] == ["walk_gen_00.bvh", "walk_gen_01.bvh", "jump_gen_00.bvh"]
-    again = write_default_set(tmp_path / "b", spec, seed=11)
-    other = write_default_set(tmp_path / "c", spec, seed=12)
-    for p, q, r in zip(paths, again, other, strict=True):
-        assert p.read_bytes() == q.read_bytes() != r.read_bytes()
-    # each file depends only on (seed, kind, i): dropping the other kinds changes nothing
-    alone = write_default_set(tmp_path / "d", {"jump": spec["jump"]}, seed=11)
-    assert alone[0].read_bytes() == paths[2].read_bytes()
-    assert read_bvh(paths[2]).frame_time == pytest.approx(1 / 25)
-    assert read_bvh(paths[0]).n_frames == 12
-    assert sorted(p.name for p in (tmp_path / "a").iterdir()) == sorted(p.name for p in paths)
+def test_default_motions_depend_only_on_seed_kind_and_index(tmp_path):
+    def written(kind, index, seed):
+        write_bvh(default_motion(kind, index, n_frames=12, seed=seed), tmp_path / "m.bvh")
+        return (tmp_path / "m.bvh").read_bytes()
 
-
-@pytest.mark.parametrize(
-    "spec, message",
-    [
-        ({"run": {"count": 1, "frames": 10}}, "unknown kind 'run'"),
-        ({"walk": {"count": 1}}, "walk needs keys count, frames"),
-        ({"walk": {"count": -1, "frames": 10}}, "walk.count"),
-        ({"walk": {"count": 1, "frames": 1}}, "walk.frames"),
-        ({"walk": {"count": 1, "frames": 10, "fps": "x"}}, "walk.fps"),
-        ({"walk": {"count": 1, "frames": 10, "speed": 2}}, "walk needs keys"),
-        ([("walk", 1)], "spec must be a mapping"),
-    ],
-)
-def test_default_set_spec_errors(tmp_path, spec, message):
-    with pytest.raises(VoxposeError, match=message):
-        write_default_set(tmp_path, spec, seed=0)
-    assert not any(tmp_path.iterdir())
+    walk = written("walk", 0, seed=11)
+    others = [written("walk", 0, seed=12), written("walk", 1, seed=11), written("jog", 0, seed=11)]
+    assert written("walk", 0, seed=11) == walk  # the same bytes again, after other sequences were drawn
+    assert len({walk, *others}) == 4
+    write_bvh(default_motion("jump", 0, n_frames=15, seed=11, fps=25.0), tmp_path / "jump.bvh")
+    jump = read_bvh(tmp_path / "jump.bvh")
+    assert jump.n_frames == 15 and jump.frame_time == pytest.approx(1 / 25)
 
 
 # --- building blocks --------------------------------------------------------------------------------
@@ -444,8 +420,6 @@ def test_mid_heading_is_the_heading_at_the_middle_frame():
 def test_default_training_sequences_cover_every_heading(tmp_path):
     """Sequences 0 and 1 of walk, drunk, jog and jump (the default Table 1 training set) leave no 10-degree
     heading bin empty, for several master seeds (Section 4: world-aligned descriptors)."""
-    from voxpose.motion.generate import default_motion
-
     for seed in (0, 1, 2):
         headings = []
         for kind in ("walk", "drunk", "jog", "jump"):

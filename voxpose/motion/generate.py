@@ -82,14 +82,13 @@ requested frames so that flights, smoothing and noise have context at both ends.
 
 import logging
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 from scipy.interpolate import PchipInterpolator
 from scipy.ndimage import gaussian_filter1d
 
 from voxpose.errors import VoxposeError
-from voxpose.io.bvh import Bvh, BvhJoint, write_bvh
+from voxpose.io.bvh import Bvh, BvhJoint
 from voxpose.motion.bvh_kinematics import forward_kinematics
 from voxpose.motion.rotations import axis_angle_to_matrix, axis_rotation, matrix_to_euler, unwrap_degrees
 
@@ -834,37 +833,3 @@ def default_motion(kind: str, index: int, *, n_frames: int, seed: int, fps: floa
     seq_seed, heading = sequence_seed(seed, kind, index), default_heading(kind, index)
     return generate_motion(kind, seed=seq_seed, n_frames=n_frames, fps=fps, mid_heading=heading)
 
-
-def write_default_set(out_dir, spec: dict, seed: int) -> list[Path]:
-    """Write the embedded default motions ``{out_dir}/{kind}_gen_{i:02d}.bvh`` described by ``spec``.
-
-    ``spec`` maps kinds to ``{"count": int >= 0, "frames": int >= 2}`` and optionally ``"fps"`` (30).
-    Sequence ``i`` of ``kind`` is seeded by ``SeedSequence(seed, spawn_key=(KINDS.index(kind), i))``, so
-    each file depends only on (seed, kind, i). Files are written atomically (``io.bvh.write_bvh``).
-    """
-    if not isinstance(spec, dict):
-        raise VoxposeError(f"default motions: spec must be a mapping of kinds, got {type(spec).__name__}")
-    if not isinstance(seed, int | np.integer) or seed < 0:
-        raise VoxposeError(f"default motions: seed must be a non-negative integer, got {seed!r}")
-    jobs = []
-    for kind, entry in spec.items():
-        if kind not in KINDS:
-            raise VoxposeError(f"default motions: unknown kind {kind!r} (known: {', '.join(KINDS)})")
-        if not isinstance(entry, dict) or not {"count", "frames"} <= set(entry) <= {"count", "frames", "fps"}:
-            raise VoxposeError(f"default motions: {kind} needs keys count, frames (and optional fps), got {entry!r}")
-        count, frames, fps = entry["count"], entry["frames"], entry.get("fps", 30.0)
-        if not isinstance(count, int) or isinstance(count, bool) or count < 0:
-            raise VoxposeError(f"default motions: {kind}.count must be an integer >= 0, got {count!r}")
-        if not isinstance(frames, int) or isinstance(frames, bool) or frames < 2:
-            raise VoxposeError(f"default motions: {kind}.frames must be an integer >= 2, got {frames!r}")
-        if not isinstance(fps, int | float) or isinstance(fps, bool) or not 1 <= fps <= 1000:
-            raise VoxposeError(f"default motions: {kind}.fps must be a number in 1..1000, got {fps!r}")
-        jobs += [(kind, i, frames, float(fps)) for i in range(count)]
-    out_dir = Path(out_dir)
-    paths = []
-    for kind, i, frames, fps in jobs:
-        path = out_dir / f"{kind}_gen_{i:02d}.bvh"
-        write_bvh(default_motion(kind, i, n_frames=frames, seed=seed, fps=fps), path)
-        log.info("wrote %s (%d frames)", path, frames)
-        paths.append(path)
-    return paths
