@@ -199,6 +199,23 @@ def rescaled(bvh: Bvh, factor: float) -> Bvh:
     return Bvh(joints=joints, frame_time=bvh.frame_time, motion=motion)
 
 
+def rest_points(joints):
+    """Rest-pose positions of joints and End Sites by summing OFFSETs down the tree (independent FK)."""
+    pos = np.zeros((len(joints), 3))
+    ends = {}
+    for i, joint in enumerate(joints):
+        pos[i] = joint.offset + (pos[joint.parent] if joint.parent >= 0 else 0.0)
+        if joint.end_site is not None:
+            ends[joint.name] = pos[i] + joint.end_site
+    return pos, ends
+
+
+def standing_height_from_bones(joints) -> float:
+    """Head top above the lowest of the toes and joints in the rest pose (metres)."""
+    pos, ends = rest_points(joints)
+    return ends["Head"][1] - min(ends["LeftToe"][1], ends["RightToe"][1], pos[:, 1].min())
+
+
 def renamed(bvh: Bvh, names: dict, drop_sites=()) -> Bvh:
     """``bvh`` with joints renamed by ``names`` (old -> new) and the End Sites of ``drop_sites`` removed."""
     joints = [

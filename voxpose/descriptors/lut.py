@@ -383,4 +383,3 @@ class _CodeTable:
         lookup = np.full(2 * half + 3, outside, dtype=np.uint16 if outside <= np.iinfo(np.uint16).max else np.int32)
         lookup[half + 1 + table.offsets[keep] @ strides] = values[keep]
         return cls(seen=seen, lead=int(lead), strides=strides, shift=half + 1, lookup=lookup)
-

@@ -263,4 +263,3 @@ def vertical_extent(ijk, l_res: float) -> float:
     ``(j_max - j_min) * l_res``, is short by one voxel on average.
     """
     return float((ijk[:, 1].max() - ijk[:, 1].min() + 1) * l_res)
-
