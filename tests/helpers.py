@@ -1,8 +1,8 @@
 """Test helpers with known geometry, shared by the test modules (imported as ``tests.helpers``).
 
-Hand-made BVH skeletons (``tpose_bvh``, ``random_motion``), canonical motions built by forward kinematics of
-chosen local rotations (``make_motion``, ``walk_motion``) and exact visual hulls of known solids
-(``exact_hull``).
+Hand-made BVH skeletons (``tpose_bvh``, ``random_motion``) and edits of them (``rescaled``, ``renamed``, ...),
+canonical motions built by forward kinematics of chosen local rotations (``make_motion``, ``walk_motion``) and
+exact visual hulls of known solids (``exact_hull``).
 """
 
 from pathlib import Path
@@ -185,6 +185,37 @@ def reorder_channels(bvh: Bvh, seed: int) -> Bvh:
     return Bvh(joints, bvh.frame_time, np.concatenate(blocks, axis=1))
 
 
+def rescaled(bvh: Bvh, factor: float) -> Bvh:
+    """The same motion in a length unit ``factor`` times smaller: offsets, End Sites and position channels
+    multiplied by ``factor`` (rotations unchanged)."""
+    motion = bvh.motion.copy()
+    joints = []
+    for j, joint in enumerate(bvh.joints):
+        pos, _ = joint_columns(bvh, j)
+        if pos is not None:
+            motion[:, pos] *= factor
+        site = None if joint.end_site is None else joint.end_site * factor
+        joints.append(BvhJoint(joint.name, joint.parent, joint.offset * factor, joint.channels, site))
+    return Bvh(joints=joints, frame_time=bvh.frame_time, motion=motion)
+
+
+def rest_points(joints):
+    """Rest-pose positions of joints and End Sites by summing OFFSETs down the tree (independent FK)."""
+    pos = np.zeros((len(joints), 3))
+    ends = {}
+    for i, joint in enumerate(joints):
+        pos[i] = joint.offset + (pos[joint.parent] if joint.parent >= 0 else 0.0)
+        if joint.end_site is not None:
+            ends[joint.name] = pos[i] + joint.end_site
+    return pos, ends
+
+
+def standing_height_from_bones(joints) -> float:
+    """Head top above the lowest of the toes and joints in the rest pose (metres)."""
+    pos, ends = rest_points(joints)
+    return ends["Head"][1] - min(ends["LeftToe"][1], ends["RightToe"][1], pos[:, 1].min())
+
+
 def renamed(bvh: Bvh, names: dict, drop_sites=()) -> Bvh:
     """``bvh`` with joints renamed by ``names`` (old -> new) and the End Sites of ``drop_sites`` removed."""
     joints = [
@@ -335,6 +366,11 @@ def exact_hull(el: Ellipsoids, rig, l_res, bounds):
             hit |= (b * b - a * (cc - 1.0) >= 0) & (b < 0)
         inside &= hit
     return ijk[inside]
+
+
+def volume(el: Ellipsoids) -> float:
+    """Total volume of the solids in cubic metres, overlaps counted twice: sum of 4/3 pi a b c."""
+    return float(4.0 / 3.0 * np.pi * np.prod(np.broadcast_to(el.radii, el.centres.shape), axis=-1).sum())
 
 
 SPHERE = Ellipsoids(("sphere",), np.array([[0.0, 1.0, 0.0]]), np.eye(3)[None], np.full((1, 3), 0.3))

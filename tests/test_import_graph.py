@@ -115,10 +115,11 @@ def test_closure_of_an_unknown_module_is_an_error():
 
 
 def test_a_command_hashes_what_it_runs_indirectly():
-    # `voxpose derive` runs through the generator's heading curves, the joint maps, the loader and the kinematics
+    # `voxpose derive` runs through the heading curves it shares with the generator, the joint maps, the loader and
+    # the kinematics
     # (a hand-written list once named only its own module and the BVH reader)
     reached = closure("voxpose.cli.derive")
-    for module in ("motion.derive", "motion.generate", "motion.joint_map", "motion.load", "motion.bvh_kinematics",
+    for module in ("motion.derive", "motion.paths", "motion.joint_map", "motion.load", "motion.bvh_kinematics",
                    "motion.rotations", "motion.canon", "io.bvh", "io.atomic"):  # fmt: skip
         assert f"voxpose.{module}" in reached
     assert "voxpose.regression.mvrvm" not in reached and "voxpose.cli.regress" not in reached

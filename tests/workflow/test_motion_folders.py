@@ -15,6 +15,8 @@ from tests.workflow.test_workflow import copy_workflow, snakemake
 from voxpose.io.bvh import read_bvh, write_bvh
 from voxpose.motion.generate import default_motion
 
+pytestmark = pytest.mark.workflow  # slow: deselect with -m "not workflow"
+
 
 @pytest.fixture(scope="module")
 def workdir(tmp_path_factory):

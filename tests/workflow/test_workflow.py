@@ -20,6 +20,8 @@ import yaml
 from tests.helpers import ROOT
 from voxpose import workflow_config as wc
 
+pytestmark = pytest.mark.workflow  # slow: deselect with -m "not workflow"
+
 
 def snakemake(workdir, *args, configfiles=(), check=True):
     """Run Snakemake on the quick config (plus ``configfiles``, merged in order: one --configfile option)."""

@@ -383,27 +383,3 @@ class _CodeTable:
         lookup = np.full(2 * half + 3, outside, dtype=np.uint16 if outside <= np.iinfo(np.uint16).max else np.int32)
         lookup[half + 1 + table.offsets[keep] @ strides] = values[keep]
         return cls(seen=seen, lead=int(lead), strides=strides, shift=half + 1, lookup=lookup)
-
-
-def shape_contexts_grid(
-    surface_ijk,
-    basis_ijk,
-    *,
-    h_sub_voxels,
-    n_r=4,
-    n_e=5,
-    n_a=10,
-    r_min=2.0,
-    r_max=1 / 3,
-    soft=True,
-    normalise=False,
-) -> np.ndarray:
-    """3D shape contexts of one voxel frame by table lookup: ``(M, n_r * n_e * n_a)`` float64.
-
-    Equal (to rounding) to ``shape_contexts((surface_ijk + 0.5) * l_res, (basis_ijk + 0.5) * l_res,
-    l_res=l_res, h_sub=h_sub_voxels * l_res, ...)`` for any ``l_res``. See :class:`ShapeContextTable`.
-    """
-    table = ShapeContextTable(
-        h_sub_voxels, n_r=n_r, n_e=n_e, n_a=n_a, r_min=r_min, r_max=r_max, soft=soft, normalise=normalise
-    )
-    return table.describe(surface_ijk, basis_ijk)
