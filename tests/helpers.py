@@ -5,6 +5,11 @@ canonical motions built by forward kinematics of chosen local rotations (``make_
 exact visual hulls of known solids (``exact_hull``).
 """
 
+import os
+import re
+import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -396,3 +401,54 @@ def mvrvm_log_ml(phi, y, alpha, beta):
         _, logdet = np.linalg.slogdet(c)
         total += -0.5 * (len(y) * np.log(2 * np.pi) + logdet + y[:, p] @ np.linalg.solve(c, y[:, p]))
     return total
+
+
+# --- running the command and the workflow in a subprocess ---
+
+
+def run_voxpose(*args, cwd=None):
+    """``voxpose ARGS`` in a subprocess (``python -m voxpose``), output captured."""
+    return subprocess.run([sys.executable, "-m", "voxpose", *map(str, args)], capture_output=True, text=True, cwd=cwd)
+
+
+def one_line_error(proc, *fragments):
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("voxpose: error: ")
+    for fragment in fragments:
+        assert fragment in lines[0]
+
+
+def snakemake(workdir, *args, configfiles=(), check=True):
+    """Run Snakemake on the quick config (plus ``configfiles``, merged in order: one --configfile option)."""
+    files = ["config/quick.yaml", *map(str, configfiles)]
+    cmd = [sys.executable, "-m", "snakemake", "--cores", "2", *args, "--configfile", *files]
+    # the rules call `voxpose`: the one installed beside this Python, running the package copy in `workdir`
+    # (tests edit that copy to see which rules an edit reruns)
+    env = os.environ | {
+        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}",
+        "PYTHONPATH": str(workdir),
+    }
+    proc = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, env=env)
+    if check and proc.returncode != 0:
+        raise AssertionError(f"snakemake {' '.join(args)} failed:\n{proc.stdout[-4000:]}\n{proc.stderr[-6000:]}")
+    return proc
+
+
+def scheduled(workdir, *configfiles, args=()) -> dict:
+    """Rules (and job counts) a dry run would execute with the quick config plus ``configfiles``."""
+    out = snakemake(workdir, "-n", *args, configfiles=configfiles).stdout
+    if "Nothing to be done" in out:
+        return {}
+    table = out.split("Job stats:", 1)[1]
+    rows = re.finditer(r"^(\w+)\s+(\d+)\s*$", table, re.M)
+    return {m.group(1): int(m.group(2)) for m in rows if m.group(1) != "total"}
+
+
+def copy_workflow(work: Path) -> Path:
+    """A copy of the workflow and the package in ``work``, to run Snakemake in."""
+    for item in ("Snakefile", "workflow", "config", "voxpose"):
+        src = ROOT / item
+        (shutil.copytree if src.is_dir() else shutil.copy)(src, work / item)
+    return work

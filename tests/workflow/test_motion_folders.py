@@ -10,8 +10,7 @@ import shutil
 import pytest
 import yaml
 
-from tests.helpers import LAB_JOINT_MAP, lab_family
-from tests.workflow.test_workflow import copy_workflow, snakemake
+from tests.helpers import LAB_JOINT_MAP, copy_workflow, lab_family, snakemake
 from voxpose.io.bvh import read_bvh, write_bvh
 from voxpose.motion.generate import default_motion
 

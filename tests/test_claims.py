@@ -127,6 +127,7 @@ def test_evaluate_counts_gaps_and_scores_each_method():
     assert np.isnan(predictions[motion.name]["pred_zero"][1]).all()
 
 
+@pytest.mark.filterwarnings("ignore::voxpose.errors.ConvergenceWarning")  # a 10-iteration codebook on purpose
 def test_feature_model_round_trip_keeps_the_cameras(tmp_path):
     rows = np.random.default_rng(0).normal(size=(200, 4))
     model = FeatureModel.fit("kmeans", rows, {"n_components": 5, "kmeans_neighbours": 2, "max_iter": 10}, 0)
