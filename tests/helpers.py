@@ -1,10 +1,15 @@
 """Test helpers with known geometry, shared by the test modules (imported as ``tests.helpers``).
 
-Hand-made BVH skeletons (``tpose_bvh``, ``random_motion``), canonical motions built by forward kinematics of
-chosen local rotations (``make_motion``, ``walk_motion``) and exact visual hulls of known solids
-(``exact_hull``).
+Hand-made BVH skeletons (``tpose_bvh``, ``random_motion``) and edits of them (``rescaled``, ``renamed``, ...),
+canonical motions built by forward kinematics of chosen local rotations (``make_motion``, ``walk_motion``) and
+exact visual hulls of known solids (``exact_hull``).
 """
 
+import os
+import re
+import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -185,6 +190,37 @@ def reorder_channels(bvh: Bvh, seed: int) -> Bvh:
     return Bvh(joints, bvh.frame_time, np.concatenate(blocks, axis=1))
 
 
+def rescaled(bvh: Bvh, factor: float) -> Bvh:
+    """The same motion in a length unit ``factor`` times smaller: offsets, End Sites and position channels
+    multiplied by ``factor`` (rotations unchanged)."""
+    motion = bvh.motion.copy()
+    joints = []
+    for j, joint in enumerate(bvh.joints):
+        pos, _ = joint_columns(bvh, j)
+        if pos is not None:
+            motion[:, pos] *= factor
+        site = None if joint.end_site is None else joint.end_site * factor
+        joints.append(BvhJoint(joint.name, joint.parent, joint.offset * factor, joint.channels, site))
+    return Bvh(joints=joints, frame_time=bvh.frame_time, motion=motion)
+
+
+def rest_points(joints):
+    """Rest-pose positions of joints and End Sites by summing OFFSETs down the tree (independent FK)."""
+    pos = np.zeros((len(joints), 3))
+    ends = {}
+    for i, joint in enumerate(joints):
+        pos[i] = joint.offset + (pos[joint.parent] if joint.parent >= 0 else 0.0)
+        if joint.end_site is not None:
+            ends[joint.name] = pos[i] + joint.end_site
+    return pos, ends
+
+
+def standing_height_from_bones(joints) -> float:
+    """Head top above the lowest of the toes and joints in the rest pose (metres)."""
+    pos, ends = rest_points(joints)
+    return ends["Head"][1] - min(ends["LeftToe"][1], ends["RightToe"][1], pos[:, 1].min())
+
+
 def renamed(bvh: Bvh, names: dict, drop_sites=()) -> Bvh:
     """``bvh`` with joints renamed by ``names`` (old -> new) and the End Sites of ``drop_sites`` removed."""
     joints = [
@@ -337,6 +373,11 @@ def exact_hull(el: Ellipsoids, rig, l_res, bounds):
     return ijk[inside]
 
 
+def volume(el: Ellipsoids) -> float:
+    """Total volume of the solids in cubic metres, overlaps counted twice: sum of 4/3 pi a b c."""
+    return float(4.0 / 3.0 * np.pi * np.prod(np.broadcast_to(el.radii, el.centres.shape), axis=-1).sum())
+
+
 SPHERE = Ellipsoids(("sphere",), np.array([[0.0, 1.0, 0.0]]), np.eye(3)[None], np.full((1, 3), 0.3))
 
 
@@ -360,3 +401,54 @@ def mvrvm_log_ml(phi, y, alpha, beta):
         _, logdet = np.linalg.slogdet(c)
         total += -0.5 * (len(y) * np.log(2 * np.pi) + logdet + y[:, p] @ np.linalg.solve(c, y[:, p]))
     return total
+
+
+# --- running the command and the workflow in a subprocess ---
+
+
+def run_voxpose(*args, cwd=None):
+    """``voxpose ARGS`` in a subprocess (``python -m voxpose``), output captured."""
+    return subprocess.run([sys.executable, "-m", "voxpose", *map(str, args)], capture_output=True, text=True, cwd=cwd)
+
+
+def one_line_error(proc, *fragments):
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("voxpose: error: ")
+    for fragment in fragments:
+        assert fragment in lines[0]
+
+
+def snakemake(workdir, *args, configfiles=(), check=True):
+    """Run Snakemake on the quick config (plus ``configfiles``, merged in order: one --configfile option)."""
+    files = ["config/quick.yaml", *map(str, configfiles)]
+    cmd = [sys.executable, "-m", "snakemake", "--cores", "2", *args, "--configfile", *files]
+    # the rules call `voxpose`: the one installed beside this Python, running the package copy in `workdir`
+    # (tests edit that copy to see which rules an edit reruns)
+    env = os.environ | {
+        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}",
+        "PYTHONPATH": str(workdir),
+    }
+    proc = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, env=env)
+    if check and proc.returncode != 0:
+        raise AssertionError(f"snakemake {' '.join(args)} failed:\n{proc.stdout[-4000:]}\n{proc.stderr[-6000:]}")
+    return proc
+
+
+def scheduled(workdir, *configfiles, args=()) -> dict:
+    """Rules (and job counts) a dry run would execute with the quick config plus ``configfiles``."""
+    out = snakemake(workdir, "-n", *args, configfiles=configfiles).stdout
+    if "Nothing to be done" in out:
+        return {}
+    table = out.split("Job stats:", 1)[1]
+    rows = re.finditer(r"^(\w+)\s+(\d+)\s*$", table, re.M)
+    return {m.group(1): int(m.group(2)) for m in rows if m.group(1) != "total"}
+
+
+def copy_workflow(work: Path) -> Path:
+    """A copy of the workflow and the package in ``work``, to run Snakemake in."""
+    for item in ("Snakefile", "workflow", "config", "voxpose"):
+        src = ROOT / item
+        (shutil.copytree if src.is_dir() else shutil.copy)(src, work / item)
+    return work

@@ -2,7 +2,7 @@
 
 Two uses: a workflow rule's code hash is the hash of the import closure of the module it runs, so editing
 any module a rule reaches, directly or not, reruns it and nothing else (Snakemake does not see edits to
-the installed package); and the layout tests check that imports only run down the stages (``LAYERS``).
+the installed package); and tests/test_import_graph.py checks that imports only run down the stages.
 """
 
 import ast
@@ -11,21 +11,6 @@ import hashlib
 from pathlib import Path
 
 PACKAGE_DIR = Path(__file__).resolve().parent
-
-# The stages bottom-up: a module may import its own layer and the layers below, never one above.
-LAYERS = (
-    ("errors", "validation", "import_graph"),
-    ("io",),
-    ("motion",),
-    ("voxels",),
-    ("descriptors",),
-    ("features",),
-    ("regression",),
-    ("evaluation",),
-    ("apply",),
-    ("cli", "workflow_config", "__main__"),
-)
-
 
 def module_files(root: Path = PACKAGE_DIR) -> dict[str, Path]:
     """Dotted module name -> source file, for every module of the package (packages by their ``__init__``)."""
@@ -97,14 +82,3 @@ def code_hash(module: str, root: Path = PACKAGE_DIR) -> str:
     for m in sorted(closure(module, import_graph(root))):
         digest.update(m.encode() + b"\0" + files[m].read_bytes() + b"\0")
     return digest.hexdigest()[:16]
-
-
-def layer_of(module: str) -> int:
-    """Index in ``LAYERS`` of the stage a module belongs to (``voxpose`` itself is the bottom)."""
-    parts = module.split(".")
-    if len(parts) == 1:
-        return 0
-    for i, names in enumerate(LAYERS):
-        if parts[1] in names:
-            return i
-    raise KeyError(f"{module}: in no layer of voxpose.import_graph.LAYERS")

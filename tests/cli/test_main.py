@@ -1,30 +1,16 @@
 """The ``voxpose`` command: user mistakes give one line and exit 2 with nothing left behind; stages chain."""
 
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
+from tests.helpers import one_line_error, run_voxpose
 from voxpose.motion import canon
 from voxpose.motion.data import read_motion
 from voxpose.voxels.cameras import circular_rig, save_rig
 from voxpose.voxels.sequence import read_voxels
 from voxpose.voxels.silhouettes import write_silhouette_folder
 from voxpose.voxels.voxelize import voxelize_motion
-
-
-def voxpose(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "voxpose", *map(str, args)], capture_output=True, text=True, cwd=cwd)
-
-
-def _one_line_error(proc, *fragments):
-    assert proc.returncode == 2
-    lines = proc.stderr.strip().splitlines()
-    assert len(lines) == 1, proc.stderr
-    assert lines[0].startswith("voxpose: error: ")
-    for fragment in fragments:
-        assert fragment in lines[0]
 
 
 def test_malformed_bvh_names_file_and_line_and_leaves_nothing(tmp_path):
@@ -34,14 +20,14 @@ def test_malformed_bvh_names_file_and_line_and_leaves_nothing(tmp_path):
         "  End Site\n  {\n    OFFSET 0 1 0\n  }\n}\nMOTION\nFrames: 2\nFrame Time: 0.1\n0 0 0\n0 zero 0\n"
     )
     out = tmp_path / "m.h5"
-    proc = voxpose("motion", bad, "-o", out)
-    _one_line_error(proc, f"{bad}:15:")
+    proc = run_voxpose("motion", bad, "-o", out)
+    one_line_error(proc, f"{bad}:15:")
     assert not out.exists()
     assert [p.name for p in tmp_path.iterdir()] == ["walk_bad.bvh"]
 
 
 def test_bad_params_json_is_named():
-    _one_line_error(voxpose("motion", "x.bvh", "-o", "y.h5", "--params", "{fps: 30"), "--params")
+    one_line_error(run_voxpose("motion", "x.bvh", "-o", "y.h5", "--params", "{fps: 30"), "--params")
 
 
 @pytest.mark.parametrize(
@@ -51,17 +37,17 @@ def test_bad_params_json_is_named():
 def test_an_unknown_params_key_is_named_and_nothing_is_written(motion_file, tmp_path, command, key):
     source = motion_file if command == "voxelize" else tmp_path / "missing.h5"
     extra = ["--rig", tmp_path / "missing.json"] if command == "voxelize" else []
-    proc = voxpose(command, source, *extra, "--params", key, "-o", tmp_path / "out.h5")
-    _one_line_error(proc, "--params: unknown key", key.split('"')[1])
+    proc = run_voxpose(command, source, *extra, "--params", key, "-o", tmp_path / "out.h5")
+    one_line_error(proc, "--params: unknown key", key.split('"')[1])
     assert not (tmp_path / "out.h5").exists()
 
 
 @pytest.fixture(scope="module")
 def motion_file(tmp_path_factory):
     d = tmp_path_factory.mktemp("cli")
-    assert voxpose("generate", "--kind", "jog", "--index", "0", "--frames", "12", "--seed", "3", "-o",
+    assert run_voxpose("generate", "--kind", "jog", "--index", "0", "--frames", "12", "--seed", "3", "-o",
                    d / "jog_gen_00.bvh").returncode == 0  # fmt: skip
-    proc = voxpose("motion", d / "jog_gen_00.bvh", "-o", d / "jog_gen_00.h5", "--params", '{"fps": 30}')
+    proc = run_voxpose("motion", d / "jog_gen_00.bvh", "-o", d / "jog_gen_00.h5", "--params", '{"fps": 30}')
     assert proc.returncode == 0, proc.stderr
     return d / "jog_gen_00.h5"
 
@@ -80,7 +66,7 @@ def test_png_silhouettes_carve_like_the_direct_path(motion_file, tmp_path):
     direct = voxelize_motion(motion, rig, n_basis=50, seed=1, keep_silhouettes=True)
     write_silhouette_folder(direct.silhouettes, rig, tmp_path / "sil")
     out = tmp_path / "carved.h5"
-    proc = voxpose("carve", "--rig", tmp_path / "rig.json", "--silhouettes", tmp_path / "sil", "--n-basis", 50,
+    proc = run_voxpose("carve", "--rig", tmp_path / "rig.json", "--silhouettes", tmp_path / "sil", "--n-basis", 50,
                    "--seed", 1, "-o", out)  # fmt: skip
     assert proc.returncode == 0, proc.stderr
     carved, meta, angles = read_voxels(out)
@@ -97,15 +83,15 @@ def test_carve_with_a_rig_that_does_not_match_the_folders(motion_file, tmp_path)
     seq = voxelize_motion(read_motion(motion_file), rig, n_basis=50, keep_silhouettes=True)
     write_silhouette_folder(seq.silhouettes[:2], rig, tmp_path / "sil")
     out = tmp_path / "carved.h5"
-    proc = voxpose("carve", "--rig", tmp_path / "rig6.json", "--silhouettes", tmp_path / "sil", "-o", out)
-    _one_line_error(proc, "sil")
+    proc = run_voxpose("carve", "--rig", tmp_path / "rig6.json", "--silhouettes", tmp_path / "sil", "-o", out)
+    one_line_error(proc, "sil")
     assert not out.exists()
 
 
 def test_voxelize_exports_png_silhouettes(motion_file, tmp_path):
     rig = circular_rig(n=3, width=96, image_height=96, focal_px=110.0, name="three")
     save_rig(rig, tmp_path / "rig.json")
-    proc = voxpose("voxelize", motion_file, "--rig", tmp_path / "rig.json", "--params", '{"n_basis": 40}',
+    proc = run_voxpose("voxelize", motion_file, "--rig", tmp_path / "rig.json", "--params", '{"n_basis": 40}',
                    "--export-silhouettes", tmp_path / "png", "-o", tmp_path / "v.h5")  # fmt: skip
     assert proc.returncode == 0, proc.stderr
     seq, meta, angles = read_voxels(tmp_path / "v.h5")
@@ -114,28 +100,29 @@ def test_voxelize_exports_png_silhouettes(motion_file, tmp_path):
     assert len(list((tmp_path / "png" / "cam0").glob("*.png"))) == 12
 
 
-def test_describe_with_two_threads_equals_one_thread_and_the_library(motion_file, tmp_path):
+def test_describe_with_two_threads_equals_one_thread_and_the_reference(motion_file, tmp_path):
     from voxpose.descriptors.file import read_descriptors
-    from voxpose.descriptors.lut import ShapeContextTable
+    from voxpose.descriptors.shape_context import shape_contexts
 
     rig = circular_rig(n=3, width=96, image_height=96, focal_px=110.0, name="three")
     save_rig(rig, tmp_path / "rig.json")
-    proc = voxpose("voxelize", motion_file, "--rig", tmp_path / "rig.json", "--params", '{"n_basis": 40}',
+    proc = run_voxpose("voxelize", motion_file, "--rig", tmp_path / "rig.json", "--params", '{"n_basis": 40}',
                    "-o", tmp_path / "v.h5")  # fmt: skip
     assert proc.returncode == 0, proc.stderr
     results = []
     for threads in (1, 2):
         out = tmp_path / f"d{threads}.h5"
-        proc = voxpose("describe", tmp_path / "v.h5", "--params", '{"n_r": 3}', "--threads", threads, "-o", out)
+        proc = run_voxpose("describe", tmp_path / "v.h5", "--params", '{"n_r": 3}', "--threads", threads, "-o", out)
         assert proc.returncode == 0, proc.stderr
         results.append(read_descriptors(out)[0])
     seq, _, _ = read_voxels(tmp_path / "v.h5")
-    table = ShapeContextTable(seq.h_sub / seq.l_res, n_r=3)
     described = 0
     for f, (one, two) in enumerate(zip(*results, strict=True)):
         np.testing.assert_array_equal(one, two)
         if not seq.empty[f]:
             ijk, surface, basis = seq.frame(f)
-            np.testing.assert_allclose(one, table.describe(ijk[surface], ijk[basis]), rtol=1e-6)  # stored as float32
+            centres = (ijk + 0.5) * seq.l_res  # the direct definition on voxel centres, in metres
+            ref = shape_contexts(centres[surface], centres[basis], l_res=seq.l_res, h_sub=seq.h_sub, n_r=3)
+            np.testing.assert_allclose(one, ref, rtol=1e-6, atol=1e-9)  # stored as float32
             described += one.any()
     assert described == seq.n_frames

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from voxpose.descriptors import lut as lut
-from voxpose.descriptors.lut import ShapeContextTable, offset_table, shape_contexts_grid
+from voxpose.descriptors.lut import ShapeContextTable, offset_table
 from voxpose.descriptors.shape_context import shape_contexts
 from voxpose.errors import VoxposeError
 
@@ -20,6 +20,11 @@ def reference(surface, basis, h_sub_voxels=60.0, **params):
         h_sub=h_sub_voxels * L_RES,
         **params,
     )
+
+
+def grid(surface, basis, h_sub_voxels=60.0, **params):
+    """The fast path on one frame: a fresh table (the offset table is cached per parameter set)."""
+    return ShapeContextTable(h_sub_voxels, **params).describe(surface, basis)
 
 
 def blob(seed, n_surface=500, n_basis=25, size=34):
@@ -52,7 +57,7 @@ def test_lut_equals_reference(params, soft):
     params = dict(params)
     h_sub_voxels = params.pop("h_sub_voxels", 60.0)
     surface, basis = blob(sum(map(ord, str(params))) + soft)
-    fast = shape_contexts_grid(surface, basis, h_sub_voxels=h_sub_voxels, soft=soft, **params)
+    fast = grid(surface, basis, h_sub_voxels=h_sub_voxels, soft=soft, **params)
     ref = reference(surface, basis, h_sub_voxels, soft=soft, **params)
     distance = np.linalg.norm(surface[None] - basis[:, None], axis=2)
     r_max = params.get("r_max", 1 / 3) * h_sub_voxels
@@ -85,13 +90,13 @@ def test_lut_equals_reference_on_boundary_offsets(soft):
     basis = np.array([[30, 40, 20]])
     surface = basis + BOUNDARY_OFFSETS
     np.testing.assert_allclose(
-        shape_contexts_grid(surface, basis, h_sub_voxels=60, soft=soft),
+        grid(surface, basis, h_sub_voxels=60, soft=soft),
         reference(surface, basis, soft=soft),
         rtol=0,
         atol=1e-12,
     )
     outside = basis + [(20, 0, 0), (12, 16, 0), (0, -12, 16), (0, 0, 0), (1, 1, 0)]
-    assert not shape_contexts_grid(outside, basis, h_sub_voxels=60, soft=soft).any()
+    assert not grid(outside, basis, h_sub_voxels=60, soft=soft).any()
 
 
 @pytest.mark.parametrize("soft", [False, True])
@@ -102,7 +107,7 @@ def test_far_voxels_and_wide_extents(soft):
     surface = np.vstack([surface, far, far + [2, 3, 1]])
     basis = np.vstack([basis, far[:2]])
     np.testing.assert_allclose(
-        shape_contexts_grid(surface, basis, h_sub_voxels=60, soft=soft),
+        grid(surface, basis, h_sub_voxels=60, soft=soft),
         reference(surface, basis, soft=soft),
         rtol=0,
         atol=1e-9,
@@ -146,14 +151,12 @@ def test_code_table_too_large_when_grown_falls_back_to_each_frame():
         assert got[-1].sum() > 0  # the far pair (3 voxels apart) votes
 
 
-def test_normalise_and_class_agree_with_function():
+@pytest.mark.parametrize("soft", [False, True])
+def test_normalised_descriptors_are_the_reference_divided_by_its_sum(soft):
     surface, basis = blob(13)
-    table = ShapeContextTable(60, n_r=3, soft=False, normalise=True)
-    got = table.describe(surface, basis)
-    np.testing.assert_array_equal(
-        got, shape_contexts_grid(surface, basis, h_sub_voxels=60, n_r=3, soft=False, normalise=True)
-    )
-    raw = reference(surface, basis, n_r=3, soft=False)
+    got = grid(surface, basis, n_r=3, soft=soft, normalise=True)
+    raw = reference(surface, basis, n_r=3, soft=soft)
+    assert (raw.sum(axis=1) > 0).all() and not np.allclose(raw.sum(axis=1), 1.0)
     np.testing.assert_allclose(got, raw / raw.sum(axis=1, keepdims=True), atol=1e-12)
 
 
@@ -196,15 +199,15 @@ def test_table_is_cached_per_parameter_set():
 def test_bad_input_raises(surface, basis, kwargs, message):
     kwargs = {"h_sub_voxels": 60, **kwargs}
     with pytest.raises(VoxposeError, match=message.replace("(", r"\(")):
-        shape_contexts_grid(surface, basis, **kwargs)
+        grid(surface, basis, **kwargs)
 
 
 @pytest.mark.parametrize("soft", [False, True])
 def test_chunked_basis_equals_one_pass(soft, monkeypatch):
     surface, basis = blob(14)
-    whole = shape_contexts_grid(surface, basis, h_sub_voxels=60, soft=soft)
     monkeypatch.setattr(lut, "_CHUNK_PAIRS", 3 * len(surface))  # three basis voxels per chunk
-    np.testing.assert_array_equal(shape_contexts_grid(surface, basis, h_sub_voxels=60, soft=soft), whole)
+    chunked = grid(surface, basis, h_sub_voxels=60, soft=soft)
+    np.testing.assert_allclose(chunked, reference(surface, basis, soft=soft), rtol=0, atol=1e-9)
 
 
 @pytest.mark.parametrize("soft", [False, True])
@@ -214,8 +217,8 @@ def test_quarter_turn_on_the_grid_shifts_azimuth_by_two_of_eight_sectors(soft):
     surface, basis = blob(15)
     turn = np.array([[0, 0, -1], [0, 1, 0], [1, 0, 0]])
     params = {"h_sub_voxels": 60, "n_e": 4, "n_a": 8, "soft": soft}
-    before = shape_contexts_grid(surface, basis, **params).reshape(len(basis), 4, 4, 8)
-    after = shape_contexts_grid(surface @ turn.T, basis @ turn.T, **params).reshape(len(basis), 4, 4, 8)
+    before = grid(surface, basis, **params).reshape(len(basis), 4, 4, 8)
+    after = grid(surface @ turn.T, basis @ turn.T, **params).reshape(len(basis), 4, 4, 8)
     np.testing.assert_allclose(after, np.roll(before, 2, axis=3), rtol=0, atol=1e-12)
     assert np.abs(after - before).max() > 0.1
 
@@ -234,8 +237,8 @@ def test_rounded_parameters_keep_boundary_decisions(h_sub_voxels, r_max, soft):
     # parameters (r = 20 never votes, r^2 = 40 goes to shell 2)
     basis = np.array([[30, 40, 20]])
     surface = np.vstack([basis + BOUNDARY_OFFSETS, blob(16)[0] + [20, 30, 10]])
-    exact = shape_contexts_grid(surface, basis, h_sub_voxels=60, soft=soft)
-    rounded = shape_contexts_grid(surface, basis, h_sub_voxels=h_sub_voxels, r_max=r_max, soft=soft)
-    np.testing.assert_allclose(rounded, exact, rtol=1e-9, atol=1e-12)
+    exact = reference(surface, basis, soft=soft)  # the direct definition at the exact parameters (h/3, 60 voxels)
+    rounded = grid(surface, basis, h_sub_voxels=h_sub_voxels, r_max=r_max, soft=soft)
+    np.testing.assert_allclose(rounded, exact, rtol=1e-9, atol=1e-9)
     on_r_max = basis + [(20, 0, 0), (12, 16, 0), (0, -12, 16)]
-    assert not shape_contexts_grid(on_r_max, basis, h_sub_voxels=h_sub_voxels, r_max=r_max, soft=soft).any()
+    assert not grid(on_r_max, basis, h_sub_voxels=h_sub_voxels, r_max=r_max, soft=soft).any()

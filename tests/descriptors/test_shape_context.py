@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 
+from voxpose.descriptors.settings import DescriptorSettings
 from voxpose.descriptors.shape_context import BinGeometry, shape_contexts
 from voxpose.errors import VoxposeError
 
@@ -222,7 +223,7 @@ def test_normalise_divides_by_the_sum():
 
 
 def test_bin_geometry_follows_eq4():
-    g = BinGeometry.from_params(h_sub_voxels=60, n_r=4, n_e=5, n_a=10, r_min=2.0, r_max=1 / 3)
+    g = BinGeometry.from_settings(DescriptorSettings(), 60)  # the paper's: 4 x 5 x 10, R_min 2 voxels, R_max h/3
     np.testing.assert_allclose(g.radial_boundaries, [radii(i) for i in range(5)], rtol=1e-12)
     assert g.bin_volumes.sum() == pytest.approx(4 / 3 * math.pi * (20**3 - 2**3), rel=1e-12)
     assert g.n_bins == 200

@@ -4,9 +4,9 @@ rig writes the same motion (channel orders, rest-pose bone frames, length unit).
 import numpy as np
 import pytest
 
-from tests.helpers import random_motion, rebase_frames, reorder_channels, set_rotation, tpose_bvh
+from tests.helpers import random_motion, rebase_frames, reorder_channels, rescaled, set_rotation, tpose_bvh
 from voxpose.errors import VoxposeError
-from voxpose.io.bvh import Bvh, read_bvh, rescaled, write_bvh
+from voxpose.io.bvh import Bvh, read_bvh, write_bvh
 from voxpose.motion import canon
 from voxpose.motion.canonical_pose import canonical_pose
 from voxpose.motion.joint_map import resolve_joint_map, skeleton_points

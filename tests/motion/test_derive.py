@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 from scipy.ndimage import gaussian_filter1d
 
+from tests.helpers import rescaled
 from voxpose.errors import VoxposeError
-from voxpose.io.bvh import Bvh, BvhJoint, joint_columns, read_bvh, rescaled, write_bvh
+from voxpose.io.bvh import Bvh, BvhJoint, joint_columns, read_bvh, write_bvh
 from voxpose.motion.bvh_kinematics import forward_kinematics
 from voxpose.motion.derive import derive_file, drunk_from_walk, lean_joint, spiral_from_walk
 from voxpose.motion.generate import generate_motion

@@ -1,52 +1,21 @@
-"""The synthetic motions: skeleton proportions, determinism, the five types' statistics, feet, limits, I/O."""
+"""The synthetic motions: determinism, heights, the five types' statistics, feet, limits, I/O, headings."""
 
 import numpy as np
 import pytest
 from scipy.ndimage import gaussian_filter1d
 
+from tests.helpers import standing_height_from_bones
 from voxpose.errors import VoxposeError
 from voxpose.io.bvh import read_bvh, write_bvh
 from voxpose.motion.bvh_kinematics import forward_kinematics
-from voxpose.motion.generate import (
-    JOINT_NAMES,
-    KINDS,
-    _toe_rocker,
-    default_skeleton,
-    generate_motion,
-    leg_ik,
-    random_walk_heading,
-    smooth_noise,
-    spiral_heading,
-    spiral_radius,
-    write_default_set,
-)
+from voxpose.motion.generate import KINDS, default_motion, generate_motion
+from voxpose.motion.generated_skeleton import JOINT_NAMES
 from voxpose.motion.load import load_motion
-from voxpose.motion.rotations import axis_angle_to_matrix, axis_rotation
 
 FPS = 30
 SEEDS = (0, 1, 2)
 GAITS = ("walk", "drunk", "spiral", "jog")
-EXPECTED_NAMES = (
-    "Hips Spine Chest Neck Head LeftShoulder LeftArm LeftForeArm LeftHand RightShoulder RightArm "
-    "RightForeArm RightHand LeftUpLeg LeftLeg LeftFoot LeftToe RightUpLeg RightLeg RightFoot RightToe"
-).split()
 J = {name: i for i, name in enumerate(JOINT_NAMES)}
-
-
-def rest_points(joints):
-    """Rest-pose positions of joints and End Sites by summing OFFSETs down the tree (independent FK)."""
-    pos = np.zeros((len(joints), 3))
-    ends = {}
-    for i, joint in enumerate(joints):
-        pos[i] = joint.offset + (pos[joint.parent] if joint.parent >= 0 else 0.0)
-        if joint.end_site is not None:
-            ends[joint.name] = pos[i] + joint.end_site
-    return pos, ends
-
-
-def standing_height_from_bones(joints) -> float:
-    pos, ends = rest_points(joints)
-    return ends["Head"][1] - min(ends["LeftToe"][1], ends["RightToe"][1], pos[:, 1].min())
 
 
 @pytest.fixture(scope="module")
@@ -109,33 +78,6 @@ def knee_flexion(fk, side: str) -> np.ndarray:
     return np.degrees(np.arccos(np.clip(cos, -1, 1))) * np.where(sign == 0, 1, sign)
 
 
-# --- skeleton -------------------------------------------------------------------------------------
-@pytest.mark.parametrize("height", [1.5, 1.75, 2.0])
-def test_skeleton_names_channels_and_standing_height(height):
-    joints = default_skeleton(height)
-    assert [j.name for j in joints] == EXPECTED_NAMES
-    assert joints[0].parent == -1 and len(joints[0].channels) == 6
-    assert all(j.channels == ("Zrotation", "Xrotation", "Yrotation") for j in joints[1:])
-    assert all(0 <= j.parent < i for i, j in enumerate(joints) if i)
-    assert {j.name for j in joints if j.end_site is not None} == {
-        "Head",
-        "LeftHand",
-        "RightHand",
-        "LeftToe",
-        "RightToe",
-    }
-    assert standing_height_from_bones(joints) == pytest.approx(height, abs=1e-12)
-    pos, ends = rest_points(joints)
-    # Winter's proportions: hip joint 0.530 H above the toes' ground line, shoulder 0.818 H, mirror symmetry
-    assert pos[J["LeftUpLeg"], 1] - ends["LeftToe"][1] == pytest.approx(0.530 * height)
-    assert pos[J["LeftArm"], 1] - ends["LeftToe"][1] == pytest.approx(0.818 * height)
-    assert pos[J["LeftArm"], 0] - pos[J["RightArm"], 0] == pytest.approx(0.259 * height)
-    for name in EXPECTED_NAMES:
-        if name.startswith("Left"):
-            np.testing.assert_allclose(pos[J[name]] * [-1, 1, 1], pos[J[name.replace("Left", "Right")]])
-    assert ends["LeftHand"][0] > pos[J["LeftArm"], 0] > 0  # T-pose: left arm along +X
-
-
 def test_bad_arguments_are_voxpose_errors():
     with pytest.raises(VoxposeError, match="unknown motion kind 'dance'"):
         generate_motion("dance", seed=0, n_frames=10)
@@ -145,8 +87,6 @@ def test_bad_arguments_are_voxpose_errors():
         generate_motion("walk", seed=0, n_frames=10, height=3.5)
     with pytest.raises(VoxposeError, match="fps"):
         generate_motion("walk", seed=0, n_frames=10, fps=0)
-    with pytest.raises(VoxposeError, match="height"):
-        default_skeleton(float("nan"))
 
 
 # --- determinism and heights ------------------------------------------------------------------------
@@ -317,121 +257,21 @@ def test_written_files_read_back_the_same(tmp_path, motions):
     assert back.frame_time == pytest.approx(1 / FPS)
 
 
-def test_default_set_names_seeds_and_determinism(tmp_path):
-    spec = {
-        "walk": {"count": 2, "frames": 12},
-        "jump": {"count": 1, "frames": 15, "fps": 25},
-        "jog": {"count": 0, "frames": 5},
-    }
-    paths = write_default_set(tmp_path / "a", spec, seed=11)
-    assert [p.name for p in paths] == ["walk_gen_00.bvh", "walk_gen_01.bvh", "jump_gen_00.bvh"]
-    again = write_default_set(tmp_path / "b", spec, seed=11)
-    other = write_default_set(tmp_path / "c", spec, seed=12)
-    for p, q, r in zip(paths, again, other, strict=True):
-        assert p.read_bytes() == q.read_bytes() != r.read_bytes()
-    # each file depends only on (seed, kind, i): dropping the other kinds changes nothing
-    alone = write_default_set(tmp_path / "d", {"jump": spec["jump"]}, seed=11)
-    assert alone[0].read_bytes() == paths[2].read_bytes()
-    assert read_bvh(paths[2]).frame_time == pytest.approx(1 / 25)
-    assert read_bvh(paths[0]).n_frames == 12
-    assert sorted(p.name for p in (tmp_path / "a").iterdir()) == sorted(p.name for p in paths)
+def test_default_motions_depend_only_on_seed_kind_and_index(tmp_path):
+    def written(kind, index, seed):
+        write_bvh(default_motion(kind, index, n_frames=12, seed=seed), tmp_path / "m.bvh")
+        return (tmp_path / "m.bvh").read_bytes()
+
+    walk = written("walk", 0, seed=11)
+    others = [written("walk", 0, seed=12), written("walk", 1, seed=11), written("jog", 0, seed=11)]
+    assert written("walk", 0, seed=11) == walk  # the same bytes again, after other sequences were drawn
+    assert len({walk, *others}) == 4
+    write_bvh(default_motion("jump", 0, n_frames=15, seed=11, fps=25.0), tmp_path / "jump.bvh")
+    jump = read_bvh(tmp_path / "jump.bvh")
+    assert jump.n_frames == 15 and jump.frame_time == pytest.approx(1 / 25)
 
 
-@pytest.mark.parametrize(
-    "spec, message",
-    [
-        ({"run": {"count": 1, "frames": 10}}, "unknown kind 'run'"),
-        ({"walk": {"count": 1}}, "walk needs keys count, frames"),
-        ({"walk": {"count": -1, "frames": 10}}, "walk.count"),
-        ({"walk": {"count": 1, "frames": 1}}, "walk.frames"),
-        ({"walk": {"count": 1, "frames": 10, "fps": "x"}}, "walk.fps"),
-        ({"walk": {"count": 1, "frames": 10, "speed": 2}}, "walk needs keys"),
-        ([("walk", 1)], "spec must be a mapping"),
-    ],
-)
-def test_default_set_spec_errors(tmp_path, spec, message):
-    with pytest.raises(VoxposeError, match=message):
-        write_default_set(tmp_path, spec, seed=0)
-    assert not any(tmp_path.iterdir())
-
-
-# --- building blocks --------------------------------------------------------------------------------
-def test_spiral_heading_is_the_integral_of_the_curvature():
-    geometry = dict(r_start=4.0, r_end=1.0, length=10.0)
-    s = np.linspace(-1.0, 14.0, 30001)
-    psi = spiral_heading(s, **geometry)
-    assert psi[np.searchsorted(s, 0.0)] == pytest.approx(0.0, abs=1e-3)
-    curvature = np.gradient(psi, s)
-    expected = 1.0 / spiral_radius(s, **geometry)
-    inner = (np.abs(s) > 0.01) & (np.abs(s - 10.0) > 0.01)
-    np.testing.assert_allclose(curvature[inner], expected[inner], rtol=1e-5)
-    assert spiral_radius(12.0, **geometry) == 1.0 and spiral_radius(-1.0, **geometry) == 4.0
-    np.testing.assert_allclose(spiral_heading(s, r_start=2.0, r_end=2.0, length=5.0), s / 2.0)
-    with pytest.raises(VoxposeError, match="positive"):
-        spiral_heading(s, r_start=0.0, r_end=1.0, length=1.0)
-
-
-def test_random_walk_heading_diffuses_at_its_rate():
-    rng = np.random.default_rng(0)
-    dt, n = 1 / 30, 301
-    ends = np.array([random_walk_heading(rng, n, dt, rate=20.0, smooth_s=0.2)[-1] for _ in range(400)])
-    # starts at 0; after 10 s the spread is 20 * sqrt(10) degrees (a little less: the smoothing at the end)
-    assert np.std(ends) == pytest.approx(20.0 * np.sqrt(10.0), rel=0.15)
-    assert random_walk_heading(rng, n, dt, rate=20.0)[0] == 0.0
-
-
-def test_smooth_noise_has_unit_variance_whatever_its_width():
-    rng = np.random.default_rng(1)
-    for sigma in (3.0, 15.0):
-        x = smooth_noise(rng, 200_000, sigma)
-        assert np.var(x) == pytest.approx(1.0, rel=0.05)
-        lag = int(sigma)
-        assert np.corrcoef(x[:-lag], x[lag:])[0, 1] == pytest.approx(np.exp(-(lag**2) / (4 * sigma**2)), abs=0.03)
-
-
-def test_leg_ik_reaches_reachable_targets_and_straightens_towards_far_ones():
-    rng = np.random.default_rng(2)
-    lengths = (0.43, 0.42)
-    hip = rng.normal(size=(200, 3))
-    direction = rng.normal(size=(200, 3))
-    direction /= np.linalg.norm(direction, axis=1, keepdims=True)
-    dist = rng.uniform(0.05, 0.84, size=200)
-    ankle = hip + dist[:, None] * direction
-    axis = rng.normal(size=(200, 3))
-    frame, knee = leg_ik(hip, ankle, axis, lengths)
-    np.testing.assert_allclose(frame @ np.swapaxes(frame, 1, 2), np.broadcast_to(np.eye(3), (200, 3, 3)), atol=1e-12)
-    np.testing.assert_allclose(np.linalg.det(frame), 1.0)
-    shank = frame @ axis_rotation("X", knee)
-    reached = hip + lengths[0] * -frame[:, :, 1] + lengths[1] * -shank[:, :, 1]
-    np.testing.assert_allclose(reached, ankle, atol=1e-9)
-    # the hinge is the requested axis made perpendicular to the leg, and the knee bends forward (-Z)
-    hinge = axis - np.sum(axis * direction, 1, keepdims=True) * direction
-    np.testing.assert_allclose(frame[:, :, 0], hinge / np.linalg.norm(hinge, axis=1, keepdims=True), atol=1e-12)
-    assert np.all((knee >= 0) & (knee <= 180))
-    _, straight = leg_ik(np.zeros((1, 3)), [[0.0, -2.0, 0.0]], [[1.0, 0.0, 0.0]], lengths)
-    assert straight[0] == pytest.approx(0.0, abs=1e-3)
-
-
-def test_toe_rocker_lifts_the_heel_about_the_ball_just_enough():
-    lengths = (0.4, 0.4)
-    hip = np.array([[0.0, 0.85, 0.0], [0.0, 0.85, 0.0]])
-    ball = np.array([[0.0, 0.02, -0.3], [0.0, 0.02, 0.12]])
-    ankle = ball + [0.0, 0.05, -0.12]  # the foot points along +Z: the ankle is above and behind the ball
-    foot = np.broadcast_to(np.eye(3), (2, 3, 3)).copy()
-    new_ankle, new_foot = _toe_rocker(hip, ankle, ball, foot, lengths, slack=1e-3)
-    # far case: now exactly at reach, same distance from the ball, turned heel-up about +X through the ball
-    assert np.linalg.norm(new_ankle[0] - hip[0]) == pytest.approx(0.8 * (1 - 1e-3))
-    assert np.linalg.norm(new_ankle[0] - ball[0]) == pytest.approx(np.linalg.norm(ankle[0] - ball[0]))
-    turn = new_foot[0]
-    angle = np.arctan2(turn[2, 1], turn[1, 1])
-    assert angle > 0  # Rx(+) turns the toes down, i.e. lifts the heel
-    np.testing.assert_allclose(turn, axis_angle_to_matrix(np.array([1.0, 0, 0]), angle), atol=1e-12)
-    np.testing.assert_allclose(new_ankle[0], ball[0] + turn @ (ankle[0] - ball[0]), atol=1e-12)
-    # reachable case untouched
-    np.testing.assert_array_equal(new_ankle[1], ankle[1])
-    np.testing.assert_array_equal(new_foot[1], foot[1])
-
-
+# --- headings ---------------------------------------------------------------------------------------
 def test_mid_heading_is_the_heading_at_the_middle_frame():
     for kind in ("walk", "jump", "spiral"):
         for target in (-150.0, 40.0):
@@ -444,8 +284,6 @@ def test_mid_heading_is_the_heading_at_the_middle_frame():
 def test_default_training_sequences_cover_every_heading(tmp_path):
     """Sequences 0 and 1 of walk, drunk, jog and jump (the default Table 1 training set) leave no 10-degree
     heading bin empty, for several master seeds (Section 4: world-aligned descriptors)."""
-    from voxpose.motion.generate import default_motion
-
     for seed in (0, 1, 2):
         headings = []
         for kind in ("walk", "drunk", "jog", "jump"):

@@ -5,9 +5,9 @@ import logging
 import numpy as np
 import pytest
 
-from tests.helpers import random_motion, tpose_bvh
+from tests.helpers import random_motion, rescaled, tpose_bvh
 from voxpose.errors import VoxposeError
-from voxpose.io.bvh import Bvh, joint_columns, rescaled, write_bvh
+from voxpose.io.bvh import Bvh, joint_columns, write_bvh
 from voxpose.motion import canon
 from voxpose.motion.joint_map import resolve_joint_map, skeleton_points
 from voxpose.motion.load import (

@@ -7,7 +7,7 @@ chosen canonical local rotations on a fixed T-pose skeleton, so every joint, end
 import numpy as np
 import pytest
 
-from tests.helpers import make_motion, tpose, walk_motion
+from tests.helpers import make_motion, tpose, volume, walk_motion
 from voxpose.errors import VoxposeError
 from voxpose.motion import canon
 from voxpose.motion.data import MotionData
@@ -107,8 +107,8 @@ def test_sizes_scale_with_height_and_volume_is_plausible():
     small, tall = body_ellipsoids(tpose(height=1.5)), body_ellipsoids(tpose(height=2.0))
     assert np.allclose(tall.radii * 1.5, small.radii * 2.0)
     # the default body of a 1.75 m subject: a heavy-set adult's volume (documented calibration)
-    volume = body_ellipsoids(tpose()).volumes().sum()
-    assert 0.07 < volume < 0.11
+    total = volume(body_ellipsoids(tpose()))
+    assert 0.07 < total < 0.11
 
 
 def test_proportion_overrides_and_errors():

@@ -14,12 +14,12 @@ the solid, so the carved volume may fall short of it only by discretisation (ass
 import numpy as np
 import pytest
 
-from tests.helpers import L_RES, SPHERE, VOLUME_BOX, as_set, box_voxels, exact_hull, tpose, walk_motion
+from tests.helpers import L_RES, SPHERE, VOLUME_BOX, as_set, box_voxels, exact_hull, volume, walk_motion
 from voxpose.errors import VoxposeError
 from voxpose.motion.rotations import axis_angle_to_matrix
 from voxpose.voxels.body import Ellipsoids, body_ellipsoids
 from voxpose.voxels.cameras import circular_rig
-from voxpose.voxels.carve import Carver, EmptyHullError, capture_bounds, carve, subject_height, vertical_extent
+from voxpose.voxels.carve import Carver, EmptyHullError, capture_bounds, vertical_extent
 from voxpose.voxels.render import render_silhouettes
 
 
@@ -57,9 +57,9 @@ ELLIPSOID = Ellipsoids(
 )
 def test_carved_volume_of_known_solids(solid, n_views, upper):
     rig = circular_rig(n=n_views)
-    ijk = carve(render_silhouettes(solid, rig), rig, L_RES)
+    ijk = Carver(rig, L_RES)(render_silhouettes(solid, rig))
     exact = exact_hull(solid, rig, L_RES, VOLUME_BOX)
-    analytic = solid.volumes().sum()
+    analytic = volume(solid)
     ratio = len(ijk) * L_RES**3 / analytic
     assert 0.97 <= ratio <= upper
     assert abs(len(ijk) / len(exact) - 1.0) < 0.02  # pixel sampling only moves the boundary
@@ -67,7 +67,7 @@ def test_carved_volume_of_known_solids(solid, n_views, upper):
 
 
 def test_more_views_carve_tighter():
-    six, twelve = (len(carve(render_silhouettes(ELLIPSOID, r), r, L_RES)) for r in map(circular_rig, (6, 12)))
+    six, twelve = (len(Carver(r, L_RES)(render_silhouettes(ELLIPSOID, r))) for r in map(circular_rig, (6, 12)))
     assert twelve < 0.97 * six
 
 
@@ -87,14 +87,14 @@ def test_coarse_to_fine_equals_exhaustive_testing(min_views):
         truth = brute_force_carve(sil, rig, l_res, bounds, min_views)
         assert len(truth) > 500 and as_set(fast) == as_set(truth)
         # the default capture-volume bounds contain the subject: same voxels
-        assert as_set(carve(sil, rig, l_res, min_views=min_views)) == as_set(truth)
+        assert as_set(Carver(rig, l_res, min_views=min_views)(sil)) == as_set(truth)
 
 
 def test_fewer_views_only_add_voxels():
     rig = circular_rig()
     sil = render_silhouettes(body_ellipsoids(walk_motion(1)).frame(0), rig)
     l_res = 1.75 / 60
-    all_views, five = (as_set(carve(sil, rig, l_res, min_views=k)) for k in (6, 5))
+    all_views, five = (as_set(Carver(rig, l_res, min_views=k)(sil)) for k in (6, 5))
     assert all_views < five
 
 
@@ -116,24 +116,13 @@ def test_capture_bounds_hold_every_point_seen_by_all_cameras():
     assert capture_bounds(rig, 4)[1, 1] >= box[1, 1]  # seen by any 4 of 6: a larger region
 
 
-def test_empty_hull_and_subject_height():
+def test_empty_hull():
     rig = circular_rig()
     sil = np.zeros((6, 480, 480), dtype=bool)
     sil[0, 100:200, 10:30] = True  # seen by one camera only
-    out = carve(sil, rig, 0.03)
+    out = Carver(rig, 0.03)(sil)
     assert out.shape == (0, 3) and out.dtype == np.int32
-    with pytest.raises(EmptyHullError, match="no common voxel"):
-        subject_height(sil, rig)
     assert isinstance(EmptyHullError("x"), VoxposeError)
-
-
-@pytest.mark.parametrize("height", [1.5, 1.75, 1.95])
-def test_subject_height_of_a_standing_body(height):
-    rig = circular_rig()
-    el = body_ellipsoids(tpose(height=height)).frame(0)
-    half = np.sqrt(el.shape_matrices()[:, 1, 1])  # vertical half-extent of each solid
-    extent = (el.centres[:, 1] + half).max() - (el.centres[:, 1] - half).min()
-    assert abs(subject_height(render_silhouettes(el, rig), rig) - extent) <= 0.05
 
 
 def test_vertical_extent_counts_voxel_cubes():
@@ -153,6 +142,6 @@ def test_bad_arguments():
     with pytest.raises(VoxposeError, match="do not bound a capture volume"):
         Carver(rig, 0.03, min_views=1)
     with pytest.raises(VoxposeError, match=r"silhouettes have shape \(5, 480, 480\)"):
-        carve(sil[:5], rig, 0.03)
+        Carver(rig, 0.03)(sil[:5])
     with pytest.raises(VoxposeError, match="boolean masks"):
-        carve(sil.astype(np.uint8), rig, 0.03)
+        Carver(rig, 0.03)(sil.astype(np.uint8))

@@ -8,12 +8,11 @@ from tests.helpers import walk_motion
 from voxpose.errors import VoxposeError
 from voxpose.voxels.body import body_ellipsoids
 from voxpose.voxels.cameras import circular_rig
-from voxpose.voxels.carve import carve
+from voxpose.voxels.carve import Carver
 from voxpose.voxels.render import render_silhouettes
 from voxpose.voxels.silhouettes import (
     iter_silhouette_folder,
     read_mask,
-    read_silhouette_folder,
     silhouette_frame_numbers,
     write_silhouette_folder,
 )
@@ -28,6 +27,11 @@ def frames():
     return np.stack([render_silhouettes(el.frame(f), RIG) for f in range(2)])
 
 
+def read_folder(directory, rig):
+    """Every frame of a silhouette folder, (F, C, H, W) bool."""
+    return np.stack(list(iter_silhouette_folder(directory, rig)))
+
+
 @pytest.fixture
 def folder(tmp_path, frames):
     assert write_silhouette_folder(frames, RIG, tmp_path / "sil") == 2
@@ -37,11 +41,12 @@ def folder(tmp_path, frames):
 def test_round_trip_carves_the_same_voxels(folder, frames):
     assert sorted(p.name for p in folder.iterdir()) == ["cam0", "cam1", "cam2", "cam3"]
     assert sorted(p.name for p in (folder / "cam2").iterdir()) == ["000000.png", "000001.png"]
-    back = read_silhouette_folder(folder, RIG)
+    back = read_folder(folder, RIG)
     assert back.dtype == bool and np.array_equal(back, frames)
+    carver = Carver(RIG, 0.03)
     for f in range(2):
-        direct = carve(frames[f], RIG, 0.03)
-        assert len(direct) > 500 and np.array_equal(carve(back[f], RIG, 0.03), direct)
+        direct = carver(frames[f])
+        assert len(direct) > 500 and np.array_equal(carver(back[f]), direct)
     assert silhouette_frame_numbers(folder, RIG) == [0, 1]
     assert not list(folder.rglob(".*"))  # no temporary files left behind
 
@@ -82,37 +87,37 @@ def test_not_a_binary_mask(folder):
     soft[:, 100:] = 255
     Image.fromarray(soft).save(bad)
     with pytest.raises(VoxposeError, match="000001.png: not a binary mask \\(3 grey levels"):
-        read_silhouette_folder(folder, RIG)
+        read_folder(folder, RIG)
 
 
 def test_wrong_image_size(folder):
     Image.fromarray(np.zeros((160, 199), np.uint8)).save(folder / "cam3" / "000000.png")
     with pytest.raises(VoxposeError, match=r"cam3/000000.png: image is 199x160, the camera's is 200x160"):
-        read_silhouette_folder(folder, RIG)
+        read_folder(folder, RIG)
 
 
 def test_folders_not_matching_the_rig(folder):
     (folder / "cam2").rename(folder / "side")
     with pytest.raises(VoxposeError, match="no folder for camera\\(s\\) cam2"):
-        read_silhouette_folder(folder, RIG)
+        read_folder(folder, RIG)
     (folder / "side").rename(folder / "cam2")
     (folder / "extra").mkdir()
     with pytest.raises(VoxposeError, match="folder\\(s\\) extra match no camera"):
-        read_silhouette_folder(folder, RIG)
+        read_folder(folder, RIG)
     (folder / "extra").rmdir()
     (folder / ".cache").mkdir()  # hidden entries are ignored
-    assert read_silhouette_folder(folder, RIG).shape == (2, 4, 160, 200)
+    assert read_folder(folder, RIG).shape == (2, 4, 160, 200)
 
 
 def test_differing_frame_counts_and_stray_files(folder, tmp_path):
     (folder / "cam3" / "000001.png").unlink()
     with pytest.raises(VoxposeError, match="cam3: 1 frames, .*cam0 has 2 \\(frame 1 is in one folder only\\)"):
-        read_silhouette_folder(folder, RIG)
+        read_folder(folder, RIG)
     (folder / "cam3" / "notes.txt").write_text("x")
     with pytest.raises(VoxposeError, match="notes.txt: not a silhouette frame"):
-        read_silhouette_folder(folder, RIG)
+        read_folder(folder, RIG)
     with pytest.raises(VoxposeError, match="silhouette folder not found"):
-        read_silhouette_folder(tmp_path / "nowhere", RIG)
+        read_folder(tmp_path / "nowhere", RIG)
 
 
 def test_write_rejects_wrong_frames(tmp_path, frames):

@@ -5,12 +5,12 @@ import logging
 import numpy as np
 import pytest
 
-from tests.helpers import make_motion, walk_motion
+from tests.helpers import make_motion, tpose, walk_motion
 from voxpose.errors import VoxposeError
 from voxpose.motion.data import MotionData
 from voxpose.voxels.body import body_ellipsoids
 from voxpose.voxels.cameras import circular_rig
-from voxpose.voxels.carve import EmptyHullError, carve, subject_height
+from voxpose.voxels.carve import Carver, EmptyHullError, vertical_extent
 from voxpose.voxels.render import render_silhouettes
 from voxpose.voxels.surface import basis_indices, surface_mask
 from voxpose.voxels.voxelize import voxelize_motion, voxelize_silhouettes
@@ -36,13 +36,13 @@ def test_sequence_equals_the_direct_path(walk, sequence):
     assert np.allclose(seq.shifts[:, 1], 0.0)
     el = body_ellipsoids(walk).translated(seq.shifts)
     first = render_silhouettes(el.frame(0), RIG)
-    assert np.isclose(seq.h_sub, subject_height(first, RIG))
+    assert np.isclose(seq.h_sub, vertical_extent(Carver(RIG, 0.05)(first), 0.05))  # Section 4: l_res = 0.05 m
     assert np.isclose(seq.l_res, seq.h_sub / 60)
     for f in range(3):
         sil = render_silhouettes(el.frame(f), RIG)
         assert np.array_equal(seq.silhouettes[f], sil)
         ijk, surface, basis = seq.frame(f)
-        assert np.array_equal(ijk, carve(sil, RIG, seq.l_res))
+        assert np.array_equal(ijk, Carver(RIG, seq.l_res)(sil))
         assert np.array_equal(surface, surface_mask(ijk))
         on_surface = np.flatnonzero(surface)
         assert np.array_equal(basis, on_surface[basis_indices(ijk[on_surface], 200, 3)])
@@ -95,9 +95,18 @@ def test_h_sub_from_the_first_non_empty_frame(sequence):
     empty = np.zeros_like(sequence.silhouettes[0])
     seq = voxelize_silhouettes([empty, sequence.silhouettes[1]], RIG, n_frames=2, progress_every=0)
     assert seq.h_sub_frame == 1 and seq.empty.tolist() == [True, False]
-    assert np.isclose(seq.h_sub, subject_height(sequence.silhouettes[1], RIG))
+    assert np.isclose(seq.h_sub, vertical_extent(Carver(RIG, 0.05)(sequence.silhouettes[1]), 0.05))
     with pytest.raises(EmptyHullError, match="no frame has a non-empty visual hull"):
         voxelize_silhouettes([empty, empty], RIG)
+
+
+@pytest.mark.parametrize("height", [1.5, 1.75, 1.95])
+def test_h_sub_of_a_standing_body_is_its_height(height):
+    el = body_ellipsoids(tpose(height=height)).frame(0)
+    half = np.sqrt(el.shape_matrices()[:, 1, 1])  # vertical half-extent of each solid
+    extent = (el.centres[:, 1] + half).max() - (el.centres[:, 1] - half).min()
+    seq = voxelize_silhouettes([render_silhouettes(el, RIG)], RIG, progress_every=0)
+    assert abs(seq.h_sub - extent) <= 0.05 and np.isclose(seq.l_res, seq.h_sub / 60)
 
 
 def test_progress_lines_every_n_frames(caplog):

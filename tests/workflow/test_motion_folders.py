@@ -10,10 +10,11 @@ import shutil
 import pytest
 import yaml
 
-from tests.helpers import LAB_JOINT_MAP, lab_family
-from tests.workflow.test_workflow import copy_workflow, snakemake
+from tests.helpers import LAB_JOINT_MAP, copy_workflow, lab_family, snakemake
 from voxpose.io.bvh import read_bvh, write_bvh
 from voxpose.motion.generate import default_motion
+
+pytestmark = pytest.mark.workflow  # slow: deselect with -m "not workflow"
 
 
 @pytest.fixture(scope="module")

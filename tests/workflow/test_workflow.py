@@ -5,11 +5,7 @@ subprocess); later tests ask dry runs which rules a change would schedule.
 """
 
 import json
-import os
 import re
-import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -17,42 +13,10 @@ import pandas as pd
 import pytest
 import yaml
 
-from tests.helpers import ROOT
+from tests.helpers import ROOT, copy_workflow, scheduled, snakemake
 from voxpose import workflow_config as wc
 
-
-def snakemake(workdir, *args, configfiles=(), check=True):
-    """Run Snakemake on the quick config (plus ``configfiles``, merged in order: one --configfile option)."""
-    files = ["config/quick.yaml", *map(str, configfiles)]
-    cmd = [sys.executable, "-m", "snakemake", "--cores", "2", *args, "--configfile", *files]
-    # the rules call `voxpose`: the one installed beside this Python, running the package copy in `workdir`
-    # (tests edit that copy to see which rules an edit reruns)
-    env = os.environ | {
-        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}",
-        "PYTHONPATH": str(workdir),
-    }
-    proc = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, env=env)
-    if check and proc.returncode != 0:
-        raise AssertionError(f"snakemake {' '.join(args)} failed:\n{proc.stdout[-4000:]}\n{proc.stderr[-6000:]}")
-    return proc
-
-
-def scheduled(workdir, *configfiles, args=()) -> dict:
-    """Rules (and job counts) a dry run would execute with the quick config plus ``configfiles``."""
-    out = snakemake(workdir, "-n", *args, configfiles=configfiles).stdout
-    if "Nothing to be done" in out:
-        return {}
-    table = out.split("Job stats:", 1)[1]
-    rows = re.finditer(r"^(\w+)\s+(\d+)\s*$", table, re.M)
-    return {m.group(1): int(m.group(2)) for m in rows if m.group(1) != "total"}
-
-
-def copy_workflow(work: Path) -> Path:
-    """A copy of the workflow and the package in ``work``, to run Snakemake in."""
-    for item in ("Snakefile", "workflow", "config", "voxpose"):
-        src = ROOT / item
-        (shutil.copytree if src.is_dir() else shutil.copy)(src, work / item)
-    return work
+pytestmark = pytest.mark.workflow  # slow: deselect with -m "not workflow"
 
 
 @pytest.fixture(scope="module")
@@ -99,7 +63,6 @@ def test_quick_run_writes_every_artifact(workflow_dir):
     for col in ("regular walking", "drunken walking", "spiral walking", "jogging", "jump"):
         assert 0 < measured[col] < 60
     assert 0 < measured["relevance vectors"] < measured["training frames"]
-
 
 
 def test_claims_artifacts(workflow_dir):

@@ -9,11 +9,12 @@ Y. Frames are drawn with matplotlib and written by Pillow as one GIF (atomically
 """
 
 import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 from PIL import Image
 
 from voxpose.apply.predict import Prediction
 from voxpose.errors import VoxposeError
-from voxpose.evaluation.figures import plt
 from voxpose.evaluation.gallery import BONES
 from voxpose.io.atomic import atomic_path
 from voxpose.motion.pose_kinematics import forward_kinematics
@@ -59,29 +60,27 @@ def render_gif(prediction: Prediction, offsets, path, *, every: int = 1, fps: fl
     half = 0.55 * (max(extent) + 1) * seq.l_res
     last_centre = np.nanmean(prediction.root, axis=0)
     dpi = 100
-    fig = plt.figure(figsize=(size_px / dpi, size_px / dpi), dpi=dpi)
+    fig = Figure(figsize=(size_px / dpi, size_px / dpi), dpi=dpi)
+    canvas = FigureCanvasAgg(fig)  # draws into a pixel buffer; no pyplot, no backend switch
     fig.subplots_adjust(left=0, right=1, bottom=0, top=0.93)
     ax = fig.add_subplot(projection="3d")
     images = []
-    try:
-        for f in range(0, seq.n_frames, every):
-            ijk, surface, _ = seq.frame(f)
-            points = (ijk[surface] + 0.5) * seq.l_res
-            if valid[f]:
-                last_centre = prediction.root[f]
-                skeletons = [(est[f], "r")] + ([] if truth is None else [(truth[f], "k")])
-                title = f"frame {prediction.frames[f]}"
-                if truth is not None:
-                    diff = np.mod(prediction.true_angles[f] - prediction.angles[f], 360.0)
-                    title += f": {np.minimum(diff, 360.0 - diff).mean():.1f} deg"
-            else:
-                skeletons, title = [], f"frame {prediction.frames[f]}: gap (empty hull)"
-            _draw(ax, points, skeletons, last_centre, half, title)
-            fig.canvas.draw()
-            rgba = np.asarray(fig.canvas.buffer_rgba())
-            images.append(Image.fromarray(rgba[..., :3]).convert("P", palette=Image.Palette.ADAPTIVE))
-    finally:
-        plt.close(fig)
+    for f in range(0, seq.n_frames, every):
+        ijk, surface, _ = seq.frame(f)
+        points = (ijk[surface] + 0.5) * seq.l_res
+        if valid[f]:
+            last_centre = prediction.root[f]
+            skeletons = [(est[f], "r")] + ([] if truth is None else [(truth[f], "k")])
+            title = f"frame {prediction.frames[f]}"
+            if truth is not None:
+                diff = np.mod(prediction.true_angles[f] - prediction.angles[f], 360.0)
+                title += f": {np.minimum(diff, 360.0 - diff).mean():.1f} deg"
+        else:
+            skeletons, title = [], f"frame {prediction.frames[f]}: gap (empty hull)"
+        _draw(ax, points, skeletons, last_centre, half, title)
+        canvas.draw()
+        rgba = np.asarray(canvas.buffer_rgba())
+        images.append(Image.fromarray(rgba[..., :3]).convert("P", palette=Image.Palette.ADAPTIVE))
     duration = int(round(1000.0 * every / (fps or prediction.fps)))
     with atomic_path(path) as tmp:
         images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:], duration=duration, loop=0)

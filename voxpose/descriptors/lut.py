@@ -61,6 +61,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from voxpose.descriptors.settings import DescriptorSettings
 from voxpose.descriptors.shape_context import BinGeometry, normalise_rows, offset_votes
 from voxpose.errors import VoxposeError
 
@@ -207,23 +208,11 @@ class ShapeContextTable:
     table per instance.
     """
 
-    def __init__(
-        self,
-        h_sub_voxels,
-        *,
-        n_r=4,
-        n_e=5,
-        n_a=10,
-        r_min=2.0,
-        r_max=1 / 3,
-        soft=True,
-        normalise=False,
-    ):
-        self.geometry = BinGeometry.from_params(
-            h_sub_voxels=h_sub_voxels, n_r=n_r, n_e=n_e, n_a=n_a, r_min=r_min, r_max=r_max
-        )
-        self.soft = bool(soft)
-        self.normalise = bool(normalise)
+    def __init__(self, h_sub_voxels, **params):
+        settings = DescriptorSettings.from_config(params, "shape context")
+        self.geometry = BinGeometry.from_settings(settings, h_sub_voxels)
+        self.soft = bool(settings.soft)
+        self.normalise = bool(settings.normalise)
         self.table = offset_table(self.geometry, self.soft)
         self._codes = None  # the current _CodeTable, grown to the largest extent seen
         self._codes_lock = threading.Lock()
@@ -383,27 +372,3 @@ class _CodeTable:
         lookup = np.full(2 * half + 3, outside, dtype=np.uint16 if outside <= np.iinfo(np.uint16).max else np.int32)
         lookup[half + 1 + table.offsets[keep] @ strides] = values[keep]
         return cls(seen=seen, lead=int(lead), strides=strides, shift=half + 1, lookup=lookup)
-
-
-def shape_contexts_grid(
-    surface_ijk,
-    basis_ijk,
-    *,
-    h_sub_voxels,
-    n_r=4,
-    n_e=5,
-    n_a=10,
-    r_min=2.0,
-    r_max=1 / 3,
-    soft=True,
-    normalise=False,
-) -> np.ndarray:
-    """3D shape contexts of one voxel frame by table lookup: ``(M, n_r * n_e * n_a)`` float64.
-
-    Equal (to rounding) to ``shape_contexts((surface_ijk + 0.5) * l_res, (basis_ijk + 0.5) * l_res,
-    l_res=l_res, h_sub=h_sub_voxels * l_res, ...)`` for any ``l_res``. See :class:`ShapeContextTable`.
-    """
-    table = ShapeContextTable(
-        h_sub_voxels, n_r=n_r, n_e=n_e, n_a=n_a, r_min=r_min, r_max=r_max, soft=soft, normalise=normalise
-    )
-    return table.describe(surface_ijk, basis_ijk)

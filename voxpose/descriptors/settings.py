@@ -12,9 +12,13 @@ from voxpose.errors import VoxposeError
 
 @dataclass(frozen=True)
 class DescriptorSettings:
-    """Keyword arguments of ``ShapeContextTable`` (and of the reference ``shape_contexts``), with the paper's values.
+    """Keyword arguments of ``ShapeContextTable`` and of the reference ``shape_contexts``, with the paper's values.
 
-    ``r_min`` is in units of ``l_res``, ``r_max`` a fraction of ``h_sub``.
+    n_r, n_e, n_a : radial, elevation and azimuth divisions (Eq. 4; elevation over 180, azimuth over 360 degrees).
+    r_min : ``R_min`` in units of ``l_res`` (the paper: 2).
+    r_max : ``R_max`` as a fraction of ``h_sub`` (the paper: 1/3).
+    soft : soft voting with votes weighted by ``1 / cbrt(bin volume)`` (the paper) or hard voting.
+    normalise : divide each descriptor by its sum (not in the paper).
     """
 
     n_r: int = 4

@@ -55,6 +55,7 @@ from functools import cached_property
 
 import numpy as np
 
+from voxpose.descriptors.settings import DescriptorSettings
 from voxpose.errors import VoxposeError
 from voxpose.validation import integer, positive_number
 
@@ -103,14 +104,13 @@ class BinGeometry:
             )
 
     @classmethod
-    def from_params(cls, *, h_sub_voxels, n_r, n_e, n_a, r_min, r_max) -> "BinGeometry":
-        """Geometry from the paper's parameters: ``r_min`` in voxels, ``r_max`` a fraction of ``h_sub``.
-
-        ``h_sub_voxels`` is the subject height in voxels, ``h_sub / l_res`` (60 in the paper).
-        """
+    def from_settings(cls, settings: DescriptorSettings, h_sub_voxels) -> "BinGeometry":
+        """Geometry of a descriptor's settings (``r_min`` in voxels, ``r_max`` a fraction of ``h_sub``) for a
+        subject ``h_sub_voxels = h_sub / l_res`` voxels tall (60 in the paper)."""
         h_sub_voxels = positive_number(h_sub_voxels, "shape context: h_sub / l_res")
-        r_max = positive_number(r_max, "shape context: r_max")
-        return cls(n_r=n_r, n_e=n_e, n_a=n_a, r_min=r_min, r_max=r_max * h_sub_voxels)
+        r_max = positive_number(settings.r_max, "shape context: r_max")
+        return cls(n_r=settings.n_r, n_e=settings.n_e, n_a=settings.n_a, r_min=settings.r_min,
+                   r_max=r_max * h_sub_voxels)  # fmt: skip
 
     @property
     def n_bins(self) -> int:
@@ -240,20 +240,7 @@ def _as_points(name: str, values) -> np.ndarray:
     return arr
 
 
-def shape_contexts(
-    points,
-    centres,
-    *,
-    l_res,
-    h_sub,
-    n_r=4,
-    n_e=5,
-    n_a=10,
-    r_min=2.0,
-    r_max=1 / 3,
-    soft=True,
-    normalise=False,
-) -> np.ndarray:
+def shape_contexts(points, centres, *, l_res, h_sub, **params) -> np.ndarray:
     """3D shape contexts of a point set at given centres, by brute force (the reference definition).
 
     Parameters
@@ -266,16 +253,10 @@ def shape_contexts(
         Voxel size in metres; offsets are measured in it.
     h_sub : float
         Subject height in metres.
-    n_r, n_e, n_a : int
-        Radial, elevation and azimuth divisions.
-    r_min : float
-        ``R_min`` in units of ``l_res`` (the paper: 2).
-    r_max : float
-        ``R_max`` as a fraction of ``h_sub`` (the paper: 1/3).
-    soft : bool
-        Soft voting (the paper) or hard voting.
-    normalise : bool
-        Divide each descriptor by its sum (not in the paper).
+    **params
+        The descriptor's settings (``voxpose.descriptors.settings.DescriptorSettings``: divisions ``n_r``,
+        ``n_e``, ``n_a``; ``r_min`` in units of ``l_res``; ``r_max`` a fraction of ``h_sub``; ``soft`` voting;
+        ``normalise``), the paper's where not given.
 
     Returns
     -------
@@ -284,7 +265,9 @@ def shape_contexts(
     """
     l_res = positive_number(l_res, "shape context: l_res")
     h_sub = positive_number(h_sub, "shape context: h_sub")
-    geometry = BinGeometry.from_params(h_sub_voxels=h_sub / l_res, n_r=n_r, n_e=n_e, n_a=n_a, r_min=r_min, r_max=r_max)
+    settings = DescriptorSettings.from_config(params, "shape context")
+    geometry = BinGeometry.from_settings(settings, h_sub / l_res)
+    soft, normalise = settings.soft, settings.normalise
     points = _as_points("points", points)
     centres = _as_points("centres", centres)
     n_bins = geometry.n_bins

@@ -7,14 +7,11 @@ Runs arrive as JSON lists of objects naming a run summary (``summary.json`` of `
 - robustness: ``{"kind", "level", "carving", "summary"}``, level 0 being the clean silhouettes.
 """
 
-import matplotlib
+import numpy as np
+import pandas as pd
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pandas as pd  # noqa: E402
-
-from voxpose.evaluation.tables import read_summary  # noqa: E402
+from voxpose.evaluation.tables import read_summary
 
 LEVEL_TITLES = {
     "flip": "boundary pixels flipped (probability)",
@@ -46,7 +43,8 @@ def camera_figure(table: pd.DataFrame):
     """Grouped bars: error per rig for each series; "n/a" where a series cannot run on a rig."""
     rigs = list(dict.fromkeys(table["rig"]))
     series = list(dict.fromkeys(table["series"]))
-    fig, ax = plt.subplots(figsize=(1.6 * len(rigs) + 2, 3.8))
+    fig = Figure(figsize=(1.6 * len(rigs) + 2, 3.8))
+    ax = fig.subplots()
     width = 0.8 / len(series)
     x = np.arange(len(rigs))
     top = np.nanmax(table["error (deg)"].to_numpy(dtype=float)) if table["error (deg)"].notna().any() else 1.0
@@ -75,7 +73,8 @@ def robustness_table(runs) -> pd.DataFrame:
 def robustness_figure(table: pd.DataFrame):
     """Error against degradation level, one panel per kind, one line per carving rule."""
     kinds = [k for k in LEVEL_TITLES if k in set(table["kind"])]
-    fig, axes = plt.subplots(1, len(kinds), figsize=(3.6 * len(kinds), 3.3), squeeze=False, sharey=True)
+    fig = Figure(figsize=(3.6 * len(kinds), 3.3))
+    axes = fig.subplots(1, len(kinds), squeeze=False, sharey=True)
     for ax, kind in zip(axes[0], kinds, strict=True):
         rows = table[table["kind"] == kind]
         for i, (rule, part) in enumerate(rows.groupby("carving", sort=False)):

@@ -1,18 +1,17 @@
 """Figure 4 (cross-validation sweeps), per-joint error bars and errors over time, drawn with matplotlib.
 
-Every figure is written atomically as PNG (and PDF where the paper has the figure).
+Every figure is written atomically as PNG (and PDF where the paper has the figure). Figures are
+``matplotlib.figure.Figure`` objects, not pyplot's: no global state and no backend to choose, as ``savefig``
+picks the writer for the file format.
 """
 
-import matplotlib
+import numpy as np
+import pandas as pd
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pandas as pd  # noqa: E402
-
-from voxpose.evaluation.tables import read_summary  # noqa: E402
-from voxpose.io.atomic import atomic_path  # noqa: E402
-from voxpose.motion import canon  # noqa: E402
+from voxpose.evaluation.tables import read_summary
+from voxpose.io.atomic import atomic_path
+from voxpose.motion import canon
 
 # The paper's choices (Section 6, Figure 4 caption).
 PAPER_CHOICE = {"r_max": 1 / 3, "n_r": 4, "ne_na": "5x10", "n_components": 200}
@@ -55,7 +54,8 @@ def figure4_table(runs) -> pd.DataFrame:
 def figure4(table: pd.DataFrame):
     """Error against each swept parameter, one panel per sweep, the paper's choice marked."""
     sweeps = [s for s in SWEEP_TITLES if s in set(table["sweep"])]
-    fig, axes = plt.subplots(1, len(sweeps), figsize=(4 * len(sweeps), 3.4), squeeze=False)
+    fig = Figure(figsize=(4 * len(sweeps), 3.4))
+    axes = fig.subplots(1, len(sweeps), squeeze=False)
     for ax, sweep in zip(axes[0], sweeps, strict=True):
         rows = table[table["sweep"] == sweep]
         labels = [str(v) for v in rows["value"]]
@@ -78,7 +78,8 @@ def figure4(table: pd.DataFrame):
 
 def joint_errors(summaries: dict):
     """Bar chart of the error per joint (mean of its 3 angles) for each experiment."""
-    fig, ax = plt.subplots(figsize=(10, 3.6))
+    fig = Figure(figsize=(10, 3.6))
+    ax = fig.subplots()
     width = 0.8 / max(1, len(summaries))
     x = np.arange(canon.N_JOINTS)
     for i, (name, summary) in enumerate(summaries.items()):
@@ -94,7 +95,8 @@ def joint_errors(summaries: dict):
 
 def error_over_time(series: dict):
     """Per-frame Eq. 6 error along each test motion; ``series``: panel title -> {motion: (F,) errors}."""
-    fig, axes = plt.subplots(len(series), 1, figsize=(10, 2.8 * len(series)), squeeze=False)
+    fig = Figure(figsize=(10, 2.8 * len(series)))
+    axes = fig.subplots(len(series), 1, squeeze=False)
     for ax, (title, motions) in zip(axes[:, 0], series.items(), strict=True):
         for name, err in motions.items():
             ax.plot(np.arange(len(err)), err, lw=0.9, label=name)

@@ -7,8 +7,8 @@ before rendering). Matplotlib's vertical axis shows the world's Y.
 """
 
 import numpy as np
+from matplotlib.figure import Figure
 
-from voxpose.evaluation.figures import plt
 from voxpose.motion import canon
 from voxpose.motion.data import kind_of
 from voxpose.motion.pose_kinematics import forward_kinematics
@@ -41,7 +41,7 @@ def gallery(predictions: dict, voxels: dict, per_kind: int = 3, method: str = "m
     picks = [p for p in pick_frames(predictions, per_kind) if p[0] in voxels]
     n_cols = min(6, max(1, len(picks)))
     n_rows = int(np.ceil(len(picks) / n_cols))
-    fig = plt.figure(figsize=(3.4 * n_cols, 4.2 * n_rows))
+    fig = Figure(figsize=(3.4 * n_cols, 4.2 * n_rows))
     for i, (name, f) in enumerate(picks):
         seq, _ = voxels[name]
         pred = predictions[name]

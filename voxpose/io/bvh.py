@@ -138,20 +138,6 @@ class _Tokens:
         return np.array(values, dtype=np.float64)
 
 
-def rescaled(bvh: Bvh, factor: float) -> Bvh:
-    """The same motion in a length unit ``factor`` times smaller: offsets, End Sites and position channels
-    multiplied by ``factor`` (rotations unchanged)."""
-    motion = bvh.motion.copy()
-    joints = []
-    for j, joint in enumerate(bvh.joints):
-        pos, _ = joint_columns(bvh, j)
-        if pos is not None:
-            motion[:, pos] *= factor
-        site = None if joint.end_site is None else joint.end_site * factor
-        joints.append(BvhJoint(joint.name, joint.parent, joint.offset * factor, joint.channels, site))
-    return Bvh(joints=joints, frame_time=bvh.frame_time, motion=motion)
-
-
 def _number(token: str, error) -> float:
     try:
         value = float(token)

@@ -20,13 +20,13 @@ progress and natural sway) turned by the heading change delta (at mid-frame), pl
 extra sideways sway. With ``lean``, L(t) tilts the body about its walking direction u through the
 ground point below the pelvis (ground = the lowest joint or End Site over the sequence).
 
-``spiral``: delta(t) = +-``motion.generate.spiral_heading`` of s(t): the radius of curvature shrinks
+``spiral``: delta(t) = +-``motion.paths.spiral_heading`` of s(t): the radius of curvature shrinks
 linearly with the distance walked from ``r_start`` to ``r_end`` (metres) over the whole walk, or, with
 ``turns`` given, over the distance that makes that many turns (a circle of ``r_end`` after it). The seed
 picks the turning direction. The body leans into the turn by atan(v^2 / (g r)) (v the smoothed walking
 speed) unless ``lean=False``.
 
-``drunk``: delta(t) = ``motion.generate.random_walk_heading`` (diffusion ``wander`` degrees per
+``drunk``: delta(t) = ``motion.paths.random_walk_heading`` (diffusion ``wander`` degrees per
 sqrt(second), smoothed over 0.5 s); a lateral sway of ``sway`` metres (a smooth unit-variance random
 process over 0.6 s); and a torso lean: the lean joint's local rotation L_j becomes
 W_p^T E(t) W_p L_j, with W_p its parent's world rotation and E a smooth random roll about u (standard
@@ -52,9 +52,9 @@ from voxpose.errors import VoxposeError
 from voxpose.io.bvh import Bvh, joint_columns, read_bvh, rotation_order, write_bvh
 from voxpose.motion import canon
 from voxpose.motion.bvh_kinematics import forward_kinematics
-from voxpose.motion.generate import GRAVITY, random_walk_heading, smooth_noise, spiral_heading, spiral_radius
 from voxpose.motion.joint_map import resolve_joint_map, skeleton_points
 from voxpose.motion.load import infer_unit, standing_height
+from voxpose.motion.paths import random_walk_heading, smooth_noise, spiral_heading, spiral_radius, turn_lean
 from voxpose.motion.reference_pose import leading_reference_frames
 from voxpose.motion.rotations import (
     axis_angle_to_matrix,
@@ -191,7 +191,7 @@ def spiral_from_walk(
     tilt = np.zeros(n)
     if lean:
         radius = spiral_radius(walk.progress, **geometry) * walk.unit
-        tilt = -direction * np.arctan(_speed(walk) ** 2 / (GRAVITY * radius))
+        tilt = -direction * turn_lean(_speed(walk), radius)
     return Bvh(joints=bvh.joints, frame_time=bvh.frame_time, motion=_relay(walk, delta, np.zeros(n), tilt))
 
 

@@ -9,7 +9,7 @@ Built-in presets, detected from the joint names (a preset fits when every joint 
   (neck -> head top) the whole head and neck, as the body model draws it. Ends: ``Head``'s End Site,
   the index finger's End Site (``LeftHandIndex1``; about the knuckles), ``LeftToeBase``'s End Site.
   The files start with a reference-pose frame (``voxpose.motion.reference_pose``).
-* ``generated``: the skeleton of ``voxpose.motion.generate`` (CMU-like names, ``LeftToe``, End Sites
+* ``generated``: the skeleton of ``voxpose.motion.generated_skeleton`` (CMU-like names, ``LeftToe``, End Sites
   on ``Head``, the hands and the toes).
 * ``bandai``: the Bandai Namco Research Motion Dataset (22 joints); the root is ``Hips`` (the static top
   joint ``joint_Root`` is ignored). Its Head, Hand and Toes End Sites have zero length, so those ends

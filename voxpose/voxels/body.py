@@ -131,10 +131,6 @@ class Ellipsoids:
         radii = np.broadcast_to(self.radii, self.centres.shape)
         return (self.rotations * radii[..., None, :] ** 2) @ np.swapaxes(self.rotations, -1, -2)
 
-    def volumes(self) -> np.ndarray:
-        """(E,) or (F, E) volumes in cubic metres (overlaps counted twice)."""
-        return 4.0 / 3.0 * np.pi * np.prod(np.broadcast_to(self.radii, self.centres.shape), axis=-1)
-
 
 def resolve_proportions(overrides=None) -> dict:
     """``DEFAULT_PROPORTIONS`` updated by ``overrides`` (``{segment: {key: value}}``), validated."""

@@ -18,10 +18,10 @@ and likewise in ``v``. A silhouette's summed-area table counts its pixels in the
 none in more than ``C - min_views`` cameras is dropped, a cell whose window is all silhouette in at
 least ``min_views`` cameras is kept whole, any other cell is split into 8; single voxels are tested at
 their centres. The windows are conservative, so the result is exactly that of testing every voxel of the
-box (``tests/test_carve.py`` checks it); only the work shrinks.
+box (``tests/voxels/test_carve.py`` checks it); only the work shrinks.
 
 An empty hull (silhouettes that do not intersect) gives an empty (0, 3) array, which the caller reports
-per frame; ``subject_height`` raises ``EmptyHullError`` since there is then nothing to measure.
+per frame; ``voxels.voxelize`` raises ``EmptyHullError`` when no frame has a hull to measure h_sub on.
 """
 
 import itertools
@@ -255,28 +255,11 @@ def _summed_areas(sil: np.ndarray):
     return np.concatenate(pieces), base, offsets, limits
 
 
-def carve(silhouettes, rig: Rig, l_res: float, *, min_views: int | None = None, bounds=None) -> np.ndarray:
-    """Occupied voxels (N, 3) int32 of one frame (Section 4); see ``Carver`` and the module docstring.
-
-    For many frames build one ``Carver`` and call it per frame (the setup is then paid once).
-    """
-    return Carver(rig, l_res, min_views=min_views, bounds=bounds)(silhouettes)
-
-
 def vertical_extent(ijk, l_res: float) -> float:
-    """Height (metres) of the occupied voxel cubes ``ijk`` (N >= 1, 3): ``(j_max - j_min + 1) * l_res``."""
-    return float((ijk[:, 1].max() - ijk[:, 1].min() + 1) * l_res)
+    """Height (metres) of the occupied voxel cubes ``ijk`` (N >= 1, 3): ``(j_max - j_min + 1) * l_res``.
 
-
-def subject_height(silhouettes, rig: Rig, l_res: float = 0.05, *, min_views: int | None = None, bounds=None):
-    """Height h_sub of the subject (metres) from one frame carved at a moderate resolution (Section 4).
-
-    The vertical extent of the occupied voxel cubes (``vertical_extent``): the number of grid centres
-    inside an interval is its length over ``l_res`` on average, so the cubes' extent is unbiased, whereas
-    the extent of the centres, ``(j_max - j_min) * l_res``, is short by one voxel on average. Raises
-    ``EmptyHullError`` for an empty hull.
+    How ``voxels.voxelize`` measures h_sub (Section 4). The extent of the cubes is unbiased: the number of grid
+    centres inside an interval is its length over ``l_res`` on average, whereas the extent of the centres,
+    ``(j_max - j_min) * l_res``, is short by one voxel on average.
     """
-    ijk = carve(silhouettes, rig, l_res, min_views=min_views, bounds=bounds)
-    if len(ijk) == 0:
-        raise EmptyHullError("the silhouettes have no common voxel: cannot measure the subject's height")
-    return vertical_extent(ijk, l_res)
+    return float((ijk[:, 1].max() - ijk[:, 1].min() + 1) * l_res)

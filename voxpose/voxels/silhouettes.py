@@ -135,11 +135,6 @@ def iter_silhouette_folder(directory, rig: Rig):
     return frames()
 
 
-def read_silhouette_folder(directory, rig: Rig) -> np.ndarray:
-    """All frames of a silhouette folder as an (F, C, H, W) bool array."""
-    return np.stack(list(iter_silhouette_folder(directory, rig)))
-
-
 def silhouette_frame_numbers(directory, rig: Rig) -> list:
     """The frame numbers (sorted) of a silhouette folder, after checking its layout."""
     return _layout(directory, rig)[0]

@@ -2,9 +2,9 @@
 
 Section 4 and Figure 2, per frame: the visual hull at ``l_res = h_sub / 60``, its surface voxels and
 about 200 basis voxels. ``h_sub`` is measured once per sequence, "after processing the first frame using
-a moderate resolution (e.g. l_res = 0.05 m)" (``voxels.carve.subject_height``), and kept for every frame. If
-the first frame's hull is empty, the first frame with a non-empty hull is used instead (``h_sub_frame``
-records which).
+a moderate resolution (e.g. l_res = 0.05 m)" (``voxels.carve.vertical_extent`` of that hull), and kept for
+every frame. If the first frame's hull is empty, the first frame with a non-empty hull is used instead
+(``h_sub_frame`` records which).
 
 Synthetic data (``voxelize_motion``): the body model of Section 6 (``voxpose.voxels.body``) is rendered exactly
 into every camera of the rig (``voxpose.voxels.render``). Motions travel further than a capture volume (a

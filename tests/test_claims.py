@@ -4,7 +4,7 @@
 import numpy as np
 import pytest
 
-from tests.helpers import L_RES, ROOT, SPHERE, VOLUME_BOX, exact_hull, walk_motion
+from tests.helpers import L_RES, ROOT, SPHERE, VOLUME_BOX, exact_hull, volume, walk_motion
 from voxpose import workflow_config as wc
 from voxpose.errors import VoxposeError
 from voxpose.evaluation.run import Fit, evaluate
@@ -13,7 +13,7 @@ from voxpose.features.silhouette import fit_codebook, render_contexts, silhouett
 from voxpose.regression.mvrvm import MVRVM
 from voxpose.regression.pose_space import PosePCA
 from voxpose.voxels.cameras import circular_rig, load_rig
-from voxpose.voxels.carve import carve
+from voxpose.voxels.carve import Carver
 from voxpose.voxels.render import render_silhouettes
 
 CONTOUR = {"n_points": 40, "n_r": 5, "n_theta": 12, "r_inner": 0.125, "r_outer": 2.0}
@@ -22,10 +22,10 @@ CONTOUR = {"n_points": 40, "n_r": 5, "n_theta": 12, "r_inner": 0.125, "r_outer":
 def test_the_four_camera_rig_file_carves_the_sphere_within_its_visual_hull_bounds():
     rig = load_rig(ROOT / "config/rigs/circle4.json")
     assert len(rig) == 4 and np.allclose(rig.target, [0.0, 1.0, 0.0])
-    ijk = set(map(tuple, carve(render_silhouettes(SPHERE, rig), rig, L_RES)))
-    six = set(map(tuple, carve(render_silhouettes(SPHERE, circular_rig()), circular_rig(), L_RES)))
+    ijk = set(map(tuple, Carver(rig, L_RES)(render_silhouettes(SPHERE, rig))))
+    six = set(map(tuple, Carver(circular_rig(), L_RES)(render_silhouettes(SPHERE, circular_rig()))))
     exact = exact_hull(SPHERE, rig, L_RES, VOLUME_BOX)
-    ratio = len(ijk) * L_RES**3 / SPHERE.volumes().sum()
+    ratio = len(ijk) * L_RES**3 / volume(SPHERE)
     # from below the hull holds the sphere (3 % discretisation); from above, 4 horizontal orthographic views
     # give a square around every slice: 4 tan(pi / 4) / pi = 1.273 times the sphere, plus 1 %
     assert 0.97 <= ratio <= 4 / np.pi + 0.01
@@ -127,6 +127,7 @@ def test_evaluate_counts_gaps_and_scores_each_method():
     assert np.isnan(predictions[motion.name]["pred_zero"][1]).all()
 
 
+@pytest.mark.filterwarnings("ignore::voxpose.errors.ConvergenceWarning")  # a 10-iteration codebook on purpose
 def test_feature_model_round_trip_keeps_the_cameras(tmp_path):
     rows = np.random.default_rng(0).normal(size=(200, 4))
     model = FeatureModel.fit("kmeans", rows, {"n_components": 5, "kmeans_neighbours": 2, "max_iter": 10}, 0)
