@@ -6,9 +6,10 @@ import pandas as pd
 import pytest
 import yaml
 
-from tests.helpers import ROOT
-from tests.workflow.test_workflow import copy_workflow, scheduled, snakemake
+from tests.helpers import ROOT, copy_workflow, scheduled, snakemake
 from voxpose import workflow_config as wc
+
+pytestmark = pytest.mark.workflow  # slow: deselect with -m "not workflow"
 
 QUICK = yaml.safe_load((ROOT / "config/quick.yaml").read_text())
 TARGETS = ("results/tables/generalisation.csv", "results/tables/experiments/table2.csv")

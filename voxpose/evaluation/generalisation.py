@@ -5,16 +5,13 @@ only collects the runs' summaries, with the rows and columns of the per-experime
 (``voxpose.evaluation.tables.experiment_table``).
 """
 
-import matplotlib
+import numpy as np
+import pandas as pd
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pandas as pd  # noqa: E402
-
-from voxpose.errors import VoxposeError  # noqa: E402
-from voxpose.evaluation.figures import save  # noqa: E402
-from voxpose.evaluation.tables import EXPERIMENT_METHODS, experiment_table  # noqa: E402
+from voxpose.errors import VoxposeError
+from voxpose.evaluation.figures import save
+from voxpose.evaluation.tables import EXPERIMENT_METHODS, experiment_table
 
 METHOD_LABELS = {
     "mvrvm": "MPPCA + MVRVM",
@@ -49,7 +46,8 @@ def generalisation_figure(df: pd.DataFrame, path) -> None:
     error = df.set_index(["held_out", "method"])["full_body"]
     frames = df.groupby("held_out", sort=False)["frames"].first()
     width = 0.8 / len(EXPERIMENT_METHODS)
-    fig, ax = plt.subplots(figsize=(min(10.0, max(7.0, 3.0 + 0.9 * len(groups))), 4.8))
+    fig = Figure(figsize=(min(10.0, max(7.0, 3.0 + 0.9 * len(groups))), 4.8))
+    ax = fig.subplots()
     x = np.arange(len(groups))
     for i, method in enumerate(EXPERIMENT_METHODS):
         ax.bar(x + (i - (len(EXPERIMENT_METHODS) - 1) / 2) * width, [error[(g, method)] for g in groups], width,
@@ -66,4 +64,3 @@ def generalisation_figure(df: pd.DataFrame, path) -> None:
     ax.legend(fontsize=FONT_PT - 1, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.22), frameon=False)
     ax.grid(axis="y", alpha=0.3)
     save(fig, path, "png")
-    plt.close(fig)
