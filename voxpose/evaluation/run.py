@@ -170,26 +170,23 @@ class Fit:
         """Write the regressor, the baselines and the fit's summary, each atomically."""
         write_arrays(regressor, "regressor", *regressor_arrays(self.pca, self.mvrvm))
         groups = {name: model.to_arrays() for name, model in self.baselines.items()}
-        write_groups(baselines, "baselines", groups, {"heading": self.heading})
+        write_groups(baselines, "baselines", groups, {})
         with atomic_path(summary) as tmp:
             tmp.write_text(json.dumps(self.summary | {"heading": self.heading}, indent=1))
 
     @classmethod
     def load(cls, regressor, baselines=None, summary=None, heading: str | None = None) -> "Fit":
         """A saved fit; without ``baselines`` only the MVRVM and the PCA-mean pose predict (a regressor
-        file alone, as the model file holds it), and ``heading`` must then be given."""
+        file alone, as the model file holds it). The heading encoding is the fit summary's, else ``heading``."""
         pca, mvrvm = regressor_from_arrays(*read_arrays(regressor, "regressor"))
         fit_summary = json.loads(Path(summary).read_text()) if summary else {}
+        heading = fit_summary.pop("heading", heading)
+        if heading is None:
+            raise VoxposeError(f"{regressor}: the heading encoding is unknown (give the fit's summary)")
         models = {}
         if baselines:
-            groups, meta = read_groups(baselines, "baselines")
+            groups, _ = read_groups(baselines, "baselines")
             models = {name: cls_.from_arrays(*groups[name]) for name, cls_ in BASELINES.items() if name in groups}
-            heading = meta["heading"]
-        if heading is None:
-            heading = fit_summary.pop("heading", None)
-        if heading is None:
-            raise VoxposeError(f"{regressor}: the heading encoding is unknown (give the fit's summary or baselines)")
-        fit_summary.pop("heading", None)
         return cls(pca, mvrvm, heading, fit_summary, models)
 
 
