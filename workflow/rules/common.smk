@@ -1,7 +1,6 @@
 # Helpers shared by all rules: config validation, the motion list, experiments, parameter-set tags.
 # All logic lives in voxpose.workflow_config (tested); this file only binds it to the workflow.
 
-import functools
 import json
 import math
 import shlex
@@ -32,6 +31,9 @@ try:
     wc.validate_config(config, workflow.source_path("../../config/schema.yaml"))
     if config["bvh_dir"]:
         SOURCE_BVH = wc.bvh_dir_motions(config["bvh_dir"])
+        # every header is read here, as `voxpose motion` reads it: a bad file is one line naming it, before any
+        # job (read lazily while Snakemake sized the jobs, it was a traceback blaming some rule)
+        DURATIONS = {name: read_duration(path) for name, path in SOURCE_BVH.items()}
         DERIVED, absent = wc.derived_motions(config.get("derived", []), SOURCE_BVH)
         if absent:
             _note(f"derived: skipped {len(absent)} of {len(absent) + len(DERIVED)} derived motions whose source is "
@@ -40,7 +42,7 @@ try:
         EXPERIMENT_CFG, EXPERIMENT_KEY = config["bvh_experiments"], "bvh_experiments"
         GENERALISATION_KEY = "bvh_generalisation"
     else:
-        SOURCE_BVH, DERIVED = {}, {}
+        SOURCE_BVH, DERIVED, DURATIONS = {}, {}, {}
         GENERATED = wc.generated_motions(config["generated"])
         EXPERIMENT_CFG, EXPERIMENT_KEY = config["experiments"], "experiments"
         GENERALISATION_KEY = "generalisation"
@@ -154,13 +156,12 @@ wildcard_constraints:
 # 16.3 s. Two 1-thread jobs side by side use both cores; a 2-thread job blocked the second core for little gain.
 
 
-@functools.cache
 def motion_frames(motion):
     """Frames a motion has once loaded (resampled to motions.fps), known before any of its jobs run: from the
     config for generated motions, from the BVH header otherwise (a derived motion has its source's duration)."""
     if motion in GENERATED:
         return GENERATED[motion][2]
-    n_frames, frame_time = read_duration(SOURCE_BVH[DERIVED[motion][1]] if motion in DERIVED else SOURCE_BVH[motion])
+    n_frames, frame_time = DURATIONS[DERIVED[motion][1] if motion in DERIVED else motion]
     return math.ceil(n_frames * frame_time * wc.motion_settings(motion, config["motions"])["fps"])
 
 
