@@ -28,7 +28,7 @@ def _note(message):
 
 
 try:
-    wc.validate_config(config, workflow.source_path("../../config/schema.yaml"))
+    wc.validate_config(config)
     if config["bvh_dir"]:
         SOURCE_BVH = wc.bvh_dir_motions(config["bvh_dir"])
         # every header is read here, as `voxpose motion` reads it: a bad file is one line naming it, before any
