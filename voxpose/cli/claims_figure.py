@@ -3,7 +3,7 @@
 One module for both: they differ only in the table and drawing functions of ``voxpose.evaluation.claims_figures``.
 """
 
-import json
+from voxpose.cli.common import parse_json
 
 
 def add_arguments(p):
@@ -20,7 +20,7 @@ def _write(args, which: str) -> None:
         "cameras": (claims_figures.camera_table, claims_figures.camera_figure),
         "robustness": (claims_figures.robustness_table, claims_figures.robustness_figure),
     }[which]
-    table = table_of(json.loads(args.runs))
+    table = table_of(parse_json(args.runs, "--runs"))
     with atomic_path(args.csv) as tmp:
         table.to_csv(tmp, index=False)
     figures.save(draw(table), args.png, "png")

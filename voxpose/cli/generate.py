@@ -2,7 +2,7 @@
 
 import logging
 
-from voxpose.cli.common import add_output
+from voxpose.cli.common import add_output, non_negative_integer, positive_integer, seed
 
 log = logging.getLogger("voxpose")
 
@@ -12,9 +12,9 @@ HELP = "write one motion of the embedded default set as BVH"
 
 def add_arguments(p):
     p.add_argument("--kind", required=True, choices=["walk", "drunk", "spiral", "jog", "jump"])
-    p.add_argument("--index", type=int, required=True, help="sequence number within its kind")
-    p.add_argument("--frames", type=int, required=True)
-    p.add_argument("--seed", type=int, required=True, help="master seed of the generated set")
+    p.add_argument("--index", type=non_negative_integer, required=True, help="sequence number within its kind")
+    p.add_argument("--frames", type=positive_integer, required=True)
+    p.add_argument("--seed", type=seed, required=True, help="master seed of the generated set")
     add_output(p)
 
 

@@ -42,7 +42,9 @@ from voxpose.cli import (
     voxelize,
     voxelize_degraded,
 )
+from voxpose.cli.common import positive_integer
 from voxpose.errors import VoxposeError
+from voxpose.io.atomic import check_target
 
 log = logging.getLogger("voxpose")
 
@@ -56,7 +58,6 @@ def _setup_logging(log_file) -> None:
     if log_file:
         handlers.append(logging.FileHandler(log_file, mode="w"))
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s: %(message)s", handlers=handlers, force=True)
-
 
 
 @dataclass(frozen=True)
@@ -90,14 +91,23 @@ SUBCOMMANDS = dict(
 }  # fmt: skip
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with the documented error form: one line ``voxpose: error: <command>: ...``, exit status 2."""
+
+    def error(self, message):
+        self.exit(2, f"voxpose: error: {self.prog.removeprefix('voxpose').strip() or 'voxpose'}: {message}\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="voxpose", description=__doc__.splitlines()[0])
+    parser = _Parser(prog="voxpose", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name, command in SUBCOMMANDS.items():
         p = sub.add_parser(name, help=command.help, description=command.help)
         command.add_arguments(p)
         p.add_argument("--log", help="also write progress to this file")
-        p.add_argument("--threads", type=int, default=1, help="threads for numerical libraries (default 1)")
+        p.add_argument(
+            "--threads", type=positive_integer, default=1, help="threads for numerical libraries (default 1)"
+        )
     return parser
 
 
@@ -105,10 +115,14 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     for var in THREAD_VARIABLES:  # before numpy is imported: BLAS reads them once
-        os.environ.setdefault(var, str(max(1, args.threads)))
+        os.environ.setdefault(var, str(args.threads))
     _setup_logging(args.log)
     run = SUBCOMMANDS[args.command].run
     try:
+        for option in ("output", "csv", "md", "png", "pdf", "record", "predictions", "angles"):
+            target = getattr(args, option, None)
+            if isinstance(target, str):  # an output: before any work, a folder or a file in the way is a mistake
+                check_target(target)
         run(args)
     except VoxposeError as err:
         root = logging.getLogger()

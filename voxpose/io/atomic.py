@@ -11,6 +11,21 @@ import re
 import tempfile
 from pathlib import Path
 
+from voxpose.errors import VoxposeError
+
+
+def check_target(path) -> None:
+    """A ``VoxposeError`` naming ``path`` when no file can be written there: it is a folder, or one of the
+    folders it would be in is a file (checked before any work, by ``voxpose.cli.main``, and on writing)."""
+    path = Path(path)
+    if path.is_dir():
+        raise VoxposeError(f"{path}: is a folder; give the name of the file to write")
+    for parent in path.parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise VoxposeError(f"{path}: cannot create folder {parent}: a file of that name is in the way")
+            return
+
 
 def _remove_stale(path: Path) -> None:
     """Delete the temporary files an earlier, killed write of ``path`` left (``.NAME.XXXXXXXX.tmp``, mkstemp's
@@ -29,9 +44,13 @@ def atomic_path(path):
     as in the workflow).
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    _remove_stale(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    check_target(path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        _remove_stale(path)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    except OSError as err:
+        raise VoxposeError(f"{path}: cannot write here: {err.strerror or err}") from None
     os.close(fd)
     tmp = Path(tmp)
     try:
