@@ -1,7 +1,6 @@
 """The config schema's one validation: number-like strings read as numbers at numeric keys (PyYAML reads
 ``1e-3`` as text), other strings refused with the fix; every YAML example in config/README.md validates."""
 
-import copy
 import re
 
 import pytest
@@ -9,7 +8,8 @@ import yaml
 
 from tests.helpers import ROOT
 from voxpose import workflow_config as wc
-from voxpose.config_schema import section, validate
+from voxpose.cli.main import main
+from voxpose.config_schema import load_yaml, merge, section, validate
 from voxpose.errors import VoxposeError
 
 
@@ -18,12 +18,7 @@ def config():
     return yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 
 
-def _merge(base: dict, override: dict) -> dict:
-    """Snakemake's --configfile semantics: nested dicts merge, other values replace."""
-    out = copy.deepcopy(base)
-    for key, value in override.items():
-        out[key] = _merge(out[key], value) if isinstance(value, dict) and isinstance(out.get(key), dict) else value
-    return out
+_merge = merge  # Snakemake's --configfile semantics: nested dicts merge, other values replace
 
 
 def test_pyyaml_reads_an_exponent_without_a_dot_as_text():
@@ -100,3 +95,35 @@ def test_a_section_schema_checks_a_commands_parameters():
         validate({"bogus": 1}, schema, "--params")
     with pytest.raises(VoxposeError, match=r"^--params: 'n_r' is a required property"):
         validate({}, section("descriptor"), "--params")
+
+
+def test_broken_yaml_is_named_by_file_and_line(tmp_path):
+    path = tmp_path / "my.yaml"
+    path.write_text("seed: 1\nfeatures:\n  tol: [1.0\n  max_iter: 3\n")
+    with pytest.raises(VoxposeError, match=rf"^{path}:4: not valid YAML: .*flow sequence \(from line 3\)"):
+        load_yaml(path)
+    path.write_text("seed: 1\n\tfeatures: 2\n")  # a tab
+    with pytest.raises(VoxposeError, match=rf"^{path}:2: not valid YAML"):
+        load_yaml(path)
+
+
+@pytest.mark.parametrize(
+    ("text", "error"),
+    [
+        ("features: {tol: 1e-3}\n", None),
+        ("features:\n  tol: [1.0\n  max_iter: 3\n",
+         "my.yaml:3: not valid YAML: while parsing a flow sequence (from line 2)"),
+        ("features: {tol: abc}\n", "config key features.tol: 'abc' is not a number"),
+        ("- 1\n", "my.yaml: expected a mapping"),
+    ],
+)
+def test_check_config_names_what_snakemake_does_not(tmp_path, capsys, text, error):
+    """Snakemake reads --configfile files itself and names neither file nor line of a YAML error."""
+    (tmp_path / "my.yaml").write_text(text)
+    status = main(["check-config", "--base", str(ROOT / "config" / "config.yaml"), str(ROOT / "config" / "quick.yaml"),
+                   str(tmp_path / "my.yaml")])  # fmt: skip
+    err = capsys.readouterr().err
+    if error is None:
+        assert status == 0
+    else:
+        assert status == 2 and err.strip().splitlines()[-1].startswith("voxpose: error: ") and error in err, err

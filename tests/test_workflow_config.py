@@ -1,6 +1,5 @@
 """The workflow's view of the config: validation, motion lists, experiments, parameter-set tags."""
 
-import copy
 import re
 
 import pytest
@@ -8,6 +7,7 @@ import yaml
 
 from tests.helpers import ROOT
 from voxpose import workflow_config as wc
+from voxpose.config_schema import merge
 from voxpose.errors import VoxposeError
 from voxpose.motion.data import kind_of
 
@@ -17,12 +17,7 @@ def config():
     return yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 
 
-def _merge(base: dict, override: dict) -> dict:
-    """Snakemake's --configfile semantics: nested dicts merge, other values replace."""
-    out = copy.deepcopy(base)
-    for key, value in override.items():
-        out[key] = _merge(out[key], value) if isinstance(value, dict) and isinstance(out.get(key), dict) else value
-    return out
+_merge = merge  # Snakemake's --configfile semantics: nested dicts merge, other values replace
 
 
 @pytest.mark.parametrize("name", ["config.yaml", "quick.yaml"])

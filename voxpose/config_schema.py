@@ -29,6 +29,37 @@ def _schema() -> dict:
     return yaml.safe_load(SCHEMA_PATH.read_text())
 
 
+def load_yaml(path):
+    """A YAML file's content; a ``VoxposeError`` ``"path:line: not valid YAML: ..."`` naming where it breaks."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as err:
+        raise VoxposeError(f"{path}: cannot read: {err.strerror or err}") from None
+    except UnicodeDecodeError as err:
+        raise VoxposeError(f"{path}: not UTF-8 text (byte {err.start})") from None
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as err:
+        mark, start = getattr(err, "problem_mark", None), getattr(err, "context_mark", None)
+        mark = mark or start
+        where = f"{path}:{mark.line + 1}" if mark else str(path)
+        context = getattr(err, "context", None)
+        if context and start and start.line != mark.line:
+            context += f" (from line {start.line + 1})"  # e.g. the line of an unclosed bracket
+        problem = " ".join(filter(None, (context, getattr(err, "problem", None))))
+        raise VoxposeError(f"{where}: not valid YAML: {problem or str(err).splitlines()[0]}") from None
+
+
+def merge(base: dict, override: dict) -> dict:
+    """``override`` merged onto a copy of ``base`` as Snakemake merges ``--configfile`` files: nested mappings
+    merge, every other value (lists too) replaces."""
+    out = copy.deepcopy(base)
+    for key, value in override.items():
+        out[key] = merge(out[key], value) if isinstance(value, dict) and isinstance(out.get(key), dict) else value
+    return out
+
+
 def config_schema() -> dict:
     """The whole config's schema (a copy)."""
     return copy.deepcopy(_schema())

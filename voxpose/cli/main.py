@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 from voxpose.cli import (
     carve,
+    check_config,
     claims_figure,
     data_fetch,
     derive,
@@ -82,7 +83,7 @@ SUBCOMMANDS = dict(
     map(_of, (generate, derive, motion, rig, voxelize, carve, describe, fit_features, features, regress, evaluate,
               experiment_table, generalisation_table, table1, table2, figure4, joint_errors, error_over_time, gallery,
               voxelize_degraded, silhouette_contexts, fit_silhouette_features, silhouette_features, export_model,
-              predict, render, data_fetch))
+              predict, render, data_fetch, check_config))
 ) | {  # fmt: skip
     "camera-figure": Subcommand("error against camera rig: transferred, retrained, A&T", claims_figure.add_arguments,
                                 claims_figure.run_cameras, claims_figure.__name__),

@@ -5,12 +5,10 @@ import json
 import math
 import shlex
 import sys
-from pathlib import Path
-
-import yaml
 
 from voxpose import workflow_config as wc
 from voxpose.cli.main import SUBCOMMANDS
+from voxpose.config_schema import load_yaml
 from voxpose.errors import VoxposeError
 from voxpose.import_graph import code_hash
 from voxpose.io.bvh import read_duration
@@ -47,7 +45,7 @@ try:
         EXPERIMENT_CFG, EXPERIMENT_KEY = config["experiments"], "experiments"
         GENERALISATION_KEY = "generalisation"
     MOTIONS = sorted([*SOURCE_BVH, *DERIVED, *GENERATED])
-    SHIPPED = yaml.safe_load(Path(workflow.source_path("../../config/config.yaml")).read_text())
+    SHIPPED = load_yaml(workflow.source_path("../../config/config.yaml"))
     EXPERIMENTS, SKIPPED = wc.resolve_experiments(EXPERIMENT_CFG, MOTIONS, EXPERIMENT_KEY, SHIPPED[EXPERIMENT_KEY])
     for name in SKIPPED:
         _note(f"{EXPERIMENT_KEY}.{name}: skipped, no training or no test motion among the {len(MOTIONS)} motions "

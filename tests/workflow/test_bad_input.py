@@ -1,4 +1,5 @@
-"""Malformed BVH files in ``bvh_dir`` (tests/io/bvh_corpus.py) through the workflow: a header error is the
+"""Bad input through the workflow. A config/config.yaml that is not valid YAML is one line naming the file and
+line. Malformed BVH files in ``bvh_dir`` (tests/io/bvh_corpus.py) through the workflow: a header error is the
 command's one line, once, before any job, in a dry run and a run alike (it was an InputFunctionException
 traceback blaming whichever rule Snakemake sized first); an error in the frame lines fails that motion's job
 with the command's line; the well-formed variants are loaded."""
@@ -17,7 +18,7 @@ CASES = {c.name: c for c in corpus()}
 
 @pytest.fixture(scope="module")
 def workdir(tmp_path_factory):
-    return copy_workflow(tmp_path_factory.mktemp("bad_bvh"))
+    return copy_workflow(tmp_path_factory.mktemp("bad_input"))
 
 
 def _cli_message(path) -> str:
@@ -58,3 +59,17 @@ def test_frame_errors_fail_their_motion_jobs_and_good_files_load(workdir, tmp_pa
             assert not made
         else:
             assert made, case.name
+
+
+def test_broken_yaml_in_the_workflows_config_names_file_and_line(tmp_path):
+    work = copy_workflow(tmp_path)
+    config = work / "config" / "config.yaml"
+    lines = config.read_text().splitlines()
+    line = next(i for i, text in enumerate(lines) if text.strip().startswith("tol:")) + 1
+    lines[line - 1] = lines[line - 1].replace("tol:", "tol: [1.0", 1)
+    config.write_text("\n".join(lines) + "\n")
+    proc = snakemake(work, "-n", check=False)
+    _no_traceback(proc)
+    assert proc.returncode == 2
+    last = proc.stderr.strip().splitlines()[-1]
+    assert last.startswith("voxpose: error: config/config.yaml:") and f"(from line {line})" in last, last
