@@ -91,3 +91,18 @@ def test_a_killed_write_leaves_a_temporary_file_that_the_next_write_removes(tmp_
     write_arrays(target, "test", {"x": np.arange(3.0)}, {})
     assert sorted(p.name for p in tmp_path.iterdir()) == [".other.h5.abcdefgh.tmp", ".out.h5.x.h5.abcdefgh.tmp",
                                                          "out.h5"]  # fmt: skip
+
+
+def test_a_motion_of_no_frames_is_neither_written_nor_read(tmp_path):
+    """voxelize and silhouette-contexts failed with a reshape traceback on a 0-frame motion file."""
+    empty = _motion(0)
+    with pytest.raises(VoxposeError, match="has no frames"):
+        write_motion(tmp_path / "m.h5", empty)
+    assert list(tmp_path.iterdir()) == []
+
+    class Unchecked(MotionData):  # an older writer's file: through the writer, past its check
+        n_frames = 1
+
+    write_motion(tmp_path / "m.h5", Unchecked(**vars(empty)))
+    with pytest.raises(VoxposeError, match=rf"^{tmp_path / 'm.h5'}: the motion file has no frames"):
+        read_motion(tmp_path / "m.h5")
