@@ -83,7 +83,11 @@ CASES = {
                              json.dumps(REGRESSION), "--seed", "0", "-o", "OUT.h5"], ["--voxels: unknown key 'x'"]),
     "generate zero frames": (["generate", "--kind", "walk", "--index", "0", "--frames", "0", "--seed", "0",
                               "-o", "OUT.bvh"], ["--frames"]),
-    "generate negative seed": (["generate", "--kind", "walk", "--index", "0", "--frames", "5", "--seed", "-1",
+    "generate too many frames": (["generate", "--kind", "walk", "--index", "0", "--frames", "10000000000", "--seed",
+                                  "0", "-o", "OUT.bvh"], ["--frames: 10000000000 is greater than the maximum of"]),
+    "generate not bvh": (["generate", "--kind", "walk", "--index", "0", "--frames", "10", "--seed", "0",
+                          "-o", "OUT.txt"], ["-o", "expected a .bvh file"]),
+    "generate negative seed": (["generate", "--kind", "walk", "--index", "0", "--frames", "12", "--seed", "-1",
                                 "-o", "OUT.bvh"], ["--seed"]),
     "carve zero basis": (["carve", "--rig", "r.json", "--silhouettes", "s", "--n-basis", "0", "-o", "OUT.h5"],
                          ["--n-basis"]),
@@ -91,6 +95,14 @@ CASES = {
                         "-o", "OUT.h5"], ["--l-res-fraction"]),
     "gallery per kind": (["gallery", "p.h5", "v.h5", "--per-kind", "0", "-o", "OUT.png"], ["--per-kind"]),
     "threads zero": (["motion", "w.bvh", "--threads", "0", "-o", "OUT.h5"], ["--threads"]),
+    "figure4 runs shape": (["figure4", "--runs", "{}", "--png", "OUT.png", "--pdf", "OUT.pdf", "--csv", "OUT.csv"],
+                           ["--runs: {} is not of type 'array'"]),
+    "generalisation runs shape": (["generalisation-table", "--runs", "[[1]]", "--csv", "OUT.csv", "--md", "OUT.md",
+                                   "--png", "OUT.png"], ["--runs key 0:"]),
+    "camera runs shape": (["camera-figure", "--runs", "[1]", "--png", "OUT.png", "--csv", "OUT.csv"],
+                          ["--runs key 0: 1 is not of type 'object'"]),
+    "robustness runs keys": (["robustness-figure", "--runs", '[{"kind": "flip"}]', "--png", "OUT.png", "--csv",
+                              "OUT.csv"], ["--runs key 0: 'level' is a required property"]),
     "figure4 runs": (["figure4", "--runs", "[1", "--png", "OUT.png", "--pdf", "OUT.pdf", "--csv", "OUT.csv"],
                      ["--runs: not valid JSON"]),
     "camera runs": (["camera-figure", "--runs", "{", "--png", "OUT.png", "--csv", "OUT.csv"], ["--runs"]),
@@ -142,3 +154,28 @@ def test_a_number_like_string_in_params_is_the_number(tmp_path, capsys):
     assert voxpose(["generate", "--kind", "walk", "--index", "0", "--frames", "12", "--seed", "0", "-o", str(bvh)]) == 0
     assert voxpose(["motion", str(bvh), "--params", '{"fps": "6e1"}', "-o", str(tmp_path / "m.h5")]) == 0
     assert read_motion(tmp_path / "m.h5").fps == 60.0
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["table1", "--ours", "IN", "--kmeans", "IN", "--csv", "OUT.csv", "--md", "OUT.md"],
+        ["experiment-table", "--name", "x", "--test-set", "a", "IN", "IN", "--csv", "OUT.csv", "--md", "OUT.md"],
+        ["joint-errors", "--summary", "a=IN", "-o", "OUT.png"],
+        ["voxelize", "m.h5", "--rig", "IN", "-o", "OUT.h5"],
+    ],
+)
+def test_a_binary_file_where_json_is_expected_is_named(tmp_path, capsys, monkeypatch, argv):
+    """A summary or rig that is not text (an HDF5 file given by mistake) was a UnicodeDecodeError traceback."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "in.h5").write_bytes(b"\x89HDF\r\n\x1a\n" + bytes(range(256)))
+    argv = [a.replace("IN", str(tmp_path / "in.h5")).replace("OUT", str(tmp_path / "out")) for a in argv]
+    if argv[0] == "voxelize":  # the motion must be read first: a real one
+        bvh = tmp_path / "walk_gen_00.bvh"
+        args = ["--kind", "walk", "--index", "0", "--frames", "12", "--seed", "0", "-o", str(bvh)]
+        assert main(["generate", *args]) == 0
+        assert main(["motion", str(bvh), "-o", str(tmp_path / "m.h5")]) == 0
+        capsys.readouterr()
+    status = main(argv)
+    _one_line_error(status, capsys.readouterr().err, [str(tmp_path / "in.h5")])
+    assert not any(p.name.startswith("out") for p in tmp_path.iterdir())

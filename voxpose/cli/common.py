@@ -18,12 +18,31 @@ from voxpose.errors import VoxposeError
 log = logging.getLogger("voxpose")
 
 
-def parse_json(text: str, what: str):
-    """``text`` as JSON, else a ``VoxposeError`` naming the option ``what``."""
+def parse_json(text: str, what: str, schema: dict | None = None):
+    """``text`` as JSON (checked by ``schema`` when given), else a ``VoxposeError`` naming the option ``what``."""
     try:
-        return json.loads(text)
+        value = json.loads(text)
     except json.JSONDecodeError as err:
         raise VoxposeError(f"{what}: not valid JSON ({err})") from None
+    if schema is not None:
+        validate(value, schema, what)
+    return value
+
+
+def list_of(item: dict) -> dict:
+    """Schema of a non-empty JSON list of ``item`` (the workflow's ``--runs``)."""
+    return {"type": "array", "minItems": 1, "items": item}
+
+
+def row(*types) -> dict:
+    """Schema of a JSON list of exactly ``len(types)`` values of these JSON types, e.g. ``row("string", "string")``."""
+    return {"type": "array", "minItems": len(types), "maxItems": len(types),
+            "prefixItems": [{"type": t} for t in types]}  # fmt: skip
+
+
+def record(*keys: str) -> dict:
+    """Schema of a JSON object with (at least) these keys."""
+    return {"type": "object", "required": list(keys)}
 
 
 def parse_params(text: str, what: str = "--params", schema: dict | None = None) -> dict:
