@@ -22,6 +22,7 @@ def run(args):
     from voxpose.features.model import FeatureModel
 
     params = parse_params(args.params, schema=section("features"))
-    rows = [d for path in args.descriptors for d in read_descriptors(path)[0] if len(d)]
-    model = FeatureModel.fit(args.method, np.concatenate(rows), params, args.seed)
+    frames = [d for path in args.descriptors for d in read_descriptors(path)[0]]
+    rows = np.concatenate([d for d in frames if len(d)])
+    model = FeatureModel.fit(args.method, rows, params, args.seed).with_novelty_range(frames)
     model.save(args.output)
