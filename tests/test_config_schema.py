@@ -50,6 +50,7 @@ def test_number_like_strings_are_read_as_numbers(config, text, key, value):
         ("features: {tol: -1e-3}", "config key features.tol: -0.001 is less than or equal to the minimum of 0"),
         ("features: {bogus: 1}", "config key features: unknown key 'bogus' (known: fit_subsample,"),
         ("motions: {unit_scale: nan}", "config key motions.unit_scale: "),
+        ("features: {tol: 1e400}", "config key features.tol: '1e400' is not a number"),  # not infinity
     ],
 )
 def test_other_strings_and_keys_are_refused_naming_the_key(config, text, message):

@@ -10,6 +10,7 @@ that number wherever the schema asks for a number (``_number_strings``), so ``to
 
 import copy
 import functools
+import math
 import re
 from pathlib import Path
 
@@ -90,10 +91,9 @@ def _expects_number(error) -> bool:
     return "number" in _types(error) or "integer" in _types(error)
 
 
-def _number_strings(validator, value) -> list:
-    """Replace, in place, every string that reads as a number where the schema expects a number (also inside
-    ``oneOf``/``anyOf`` alternatives); the paths replaced."""
-    replaced = []
+def _number_strings(validator, value) -> None:
+    """Replace, in place, every string that reads as a finite number where the schema expects a number (also
+    inside ``oneOf``/``anyOf`` alternatives)."""
     stack = list(validator.iter_errors(value))
     while stack:
         error = stack.pop()
@@ -107,12 +107,10 @@ def _number_strings(validator, value) -> list:
         container = value
         for key in parents:
             container = container[key]
-        if container[last] is text:
-            number = float(text)
+        number = float(text)
+        if container[last] is text and math.isfinite(number):
             integral = number.is_integer() and ("number" not in _types(error) or re.fullmatch(r"[-+]?\d+", text))
             container[last] = int(number) if integral else number
-            replaced.append(list(error.absolute_path))
-    return replaced
 
 
 def _message(error) -> str:
