@@ -112,6 +112,8 @@ CASES = {
                              ["--predictions 'p.h5': expected NAME=PATH"]),
     "joint-errors pair": (["joint-errors", "--summary", "s.json", "-o", "OUT.png"], ["--summary"]),
     "missing argument": (["motion"], ["motion: the following arguments are required"]),
+    "no command": ([], ["voxpose: error: the following arguments are required: COMMAND"]),
+    "unknown command": (["motions"], ["invalid choice: 'motions'"]),
 }  # fmt: skip
 
 

@@ -96,7 +96,8 @@ class _Parser(argparse.ArgumentParser):
     """argparse with the documented error form: one line ``voxpose: error: <command>: ...``, exit status 2."""
 
     def error(self, message):
-        self.exit(2, f"voxpose: error: {self.prog.removeprefix('voxpose').strip() or 'voxpose'}: {message}\n")
+        command = self.prog.removeprefix("voxpose").strip()
+        self.exit(2, f"voxpose: error: {command + ': ' if command else ''}{message}\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
