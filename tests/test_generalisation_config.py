@@ -120,7 +120,7 @@ def test_on_the_shared_data_no_performer_is_ever_trained_on_when_held_out(shared
 def test_the_schema_takes_groups_as_a_list_only():
     config = dict(SHIPPED, generalisation={"train": ["*"], "groups": {"gen_00": ["*_gen_00"]}})
     with pytest.raises(VoxposeError, match="^config key generalisation.groups: "):
-        wc.validate_config(config, ROOT / "config/schema.yaml")
+        wc.validate_config(config)
     bad = dict(SHIPPED, generalisation={"train": ["*"], "groups": [{"name": "a/b", "files": ["x"]}]})
     with pytest.raises(VoxposeError, match="^config key generalisation.groups.0.name: "):
-        wc.validate_config(bad, ROOT / "config/schema.yaml")
+        wc.validate_config(bad)

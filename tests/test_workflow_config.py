@@ -1,6 +1,5 @@
 """The workflow's view of the config: validation, motion lists, experiments, parameter-set tags."""
 
-import copy
 import re
 
 import pytest
@@ -8,10 +7,9 @@ import yaml
 
 from tests.helpers import ROOT
 from voxpose import workflow_config as wc
+from voxpose.config_schema import merge
 from voxpose.errors import VoxposeError
 from voxpose.motion.data import kind_of
-
-SCHEMA = ROOT / "config" / "schema.yaml"
 
 
 @pytest.fixture
@@ -19,17 +17,12 @@ def config():
     return yaml.safe_load((ROOT / "config" / "config.yaml").read_text())
 
 
-def _merge(base: dict, override: dict) -> dict:
-    """Snakemake's --configfile semantics: nested dicts merge, other values replace."""
-    out = copy.deepcopy(base)
-    for key, value in override.items():
-        out[key] = _merge(out[key], value) if isinstance(value, dict) and isinstance(out.get(key), dict) else value
-    return out
+_merge = merge  # Snakemake's --configfile semantics: nested dicts merge, other values replace
 
 
 @pytest.mark.parametrize("name", ["config.yaml", "quick.yaml"])
 def test_shipped_configs_are_valid(name, config):
-    wc.validate_config(_merge(config, yaml.safe_load((ROOT / "config" / name).read_text())), SCHEMA)
+    wc.validate_config(_merge(config, yaml.safe_load((ROOT / "config" / name).read_text())))
 
 
 @pytest.mark.parametrize(
@@ -56,13 +49,13 @@ def test_out_of_schema_value_names_the_key(config, path, value, key):
         node = node[p]
     node[path[-1]] = value
     with pytest.raises(VoxposeError, match=rf"^config key {key}: "):
-        wc.validate_config(config, SCHEMA)
+        wc.validate_config(config)
 
 
 def test_unknown_key_is_refused(config):
     config["descriptor"]["n_rr"] = 4
     with pytest.raises(VoxposeError, match="config key descriptor: .*n_rr"):
-        wc.validate_config(config, SCHEMA)
+        wc.validate_config(config)
 
 
 MOTIONS = {"fps": 30.0, "unit_scale": None, "drop_reference_frame": "auto", "joint_map": None}
@@ -133,10 +126,10 @@ def test_a_motion_set_tag_depends_on_the_motions_only():
 def test_named_test_sets_pass_the_schema_and_bad_set_names_do_not():
     config = yaml.safe_load((ROOT / "config/config.yaml").read_text())
     config["experiments"]["table2"]["test"] = {"walks": ["walk_*"], "rest": ["jog_*"]}
-    wc.validate_config(config, ROOT / "config/schema.yaml")
+    wc.validate_config(config)
     config["experiments"]["table2"]["test"] = {"a/b": ["walk_*"]}
     with pytest.raises(VoxposeError, match="config key experiments.table2.test"):
-        wc.validate_config(config, ROOT / "config/schema.yaml")
+        wc.validate_config(config)
 
 
 def test_overlapping_experiment_is_refused_naming_the_files():
@@ -181,10 +174,10 @@ def test_bvh_dir_may_be_a_list_of_folders(tmp_path):
 def test_bvh_dir_schema(config, value, ok):
     config["bvh_dir"] = value
     if ok:
-        wc.validate_config(config, SCHEMA)
+        wc.validate_config(config)
     else:
         with pytest.raises(VoxposeError, match="^config key bvh_dir: "):
-            wc.validate_config(config, SCHEMA)
+            wc.validate_config(config)
 
 
 def test_derived_motions_and_absent_sources():

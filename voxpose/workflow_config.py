@@ -10,22 +10,15 @@ import fnmatch
 import hashlib
 from pathlib import Path
 
-import jsonschema
-import yaml
-
+from voxpose.config_schema import config_schema, validate
 from voxpose.descriptors.settings import DescriptorSettings, tag_number
 from voxpose.errors import VoxposeError
 
 
-def validate_config(config: dict, schema_path) -> None:
-    """Validate ``config`` against the JSON schema; raise a one-line ``VoxposeError`` naming the key."""
-    schema = yaml.safe_load(Path(schema_path).read_text())
-    validator = jsonschema.Draft202012Validator(schema)
-    errors = sorted(validator.iter_errors(config), key=lambda e: list(e.absolute_path))
-    if errors:
-        err = errors[0]
-        key = ".".join(str(p) for p in err.absolute_path) or "(top level)"
-        raise VoxposeError(f"config key {key}: {err.message}")
+def validate_config(config: dict) -> None:
+    """Validate ``config`` against the schema (``voxpose.config_schema``); a one-line ``VoxposeError`` naming the
+    key. Number-like strings at numeric keys (YAML 1.1's ``1e-3``) become numbers, in place."""
+    validate(config, config_schema(), "config")
 
 
 def generated_motions(spec: dict) -> dict:

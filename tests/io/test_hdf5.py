@@ -1,5 +1,9 @@
 """HDF5 layouts: round trips, atomic writes, clear errors for the wrong or a damaged file."""
 
+import signal
+import subprocess
+import sys
+
 import h5py
 import numpy as np
 import pytest
@@ -66,3 +70,39 @@ def test_wrong_layout_and_version_and_damage_are_clear(tmp_path):
     (tmp_path / "bad.h5").write_bytes(b"not hdf5 at all")
     with pytest.raises(VoxposeError, match=r"bad.h5: cannot read mppca file"):
         read_arrays(tmp_path / "bad.h5", "mppca")
+
+
+def test_a_killed_write_leaves_a_temporary_file_that_the_next_write_removes(tmp_path):
+    """SIGKILL in the middle of a write (as a cluster's time limit does): the rerun deletes what it left."""
+    target = tmp_path / "out.h5"
+    code = (
+        "import sys, time\nfrom voxpose.io.atomic import atomic_path\n"
+        f"with atomic_path({str(target)!r}) as tmp:\n    tmp.write_bytes(b'partial')\n    print('ready', flush=True)\n"
+        "    time.sleep(60)\n"
+    )
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    assert proc.stdout.readline().strip() == "ready"
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    left = [p.name for p in tmp_path.iterdir()]
+    assert len(left) == 1 and left[0].startswith(".out.h5.") and left[0].endswith(".tmp")
+    (tmp_path / ".other.h5.abcdefgh.tmp").write_bytes(b"another target's")  # not this target's: kept
+    (tmp_path / ".out.h5.x.h5.abcdefgh.tmp").write_bytes(b"another target's")
+    write_arrays(target, "test", {"x": np.arange(3.0)}, {})
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".other.h5.abcdefgh.tmp", ".out.h5.x.h5.abcdefgh.tmp",
+                                                         "out.h5"]  # fmt: skip
+
+
+def test_a_motion_of_no_frames_is_neither_written_nor_read(tmp_path):
+    """voxelize and silhouette-contexts failed with a reshape traceback on a 0-frame motion file."""
+    empty = _motion(0)
+    with pytest.raises(VoxposeError, match="has no frames"):
+        write_motion(tmp_path / "m.h5", empty)
+    assert list(tmp_path.iterdir()) == []
+
+    class Unchecked(MotionData):  # an older writer's file: through the writer, past its check
+        n_frames = 1
+
+    write_motion(tmp_path / "m.h5", Unchecked(**vars(empty)))
+    with pytest.raises(VoxposeError, match=rf"^{tmp_path / 'm.h5'}: the motion file has no frames"):
+        read_motion(tmp_path / "m.h5")

@@ -1,6 +1,6 @@
 """``voxpose carve``: calibrated multi-view PNG silhouettes -> carved voxels (Section 4), as the workflow carves."""
 
-from voxpose.cli.common import add_output, log_counts, voxel_meta
+from voxpose.cli.common import add_output, log_counts, positive_integer, positive_number, seed, voxel_meta
 from voxpose.voxels.settings import DEFAULTS, VoxelSettings
 
 NAME = "carve"
@@ -10,10 +10,14 @@ HELP = "calibrated multi-view PNG silhouettes -> carved voxels (HDF5)"
 def add_arguments(p):
     p.add_argument("--rig", required=True, help="rig calibration file (JSON or YAML, see voxpose/voxels/cameras.py)")
     p.add_argument("--silhouettes", required=True, help="folder with one PNG folder per camera")
-    p.add_argument("--l-res-fraction", type=float, default=DEFAULTS.l_res_fraction, help="voxel size / subject height")
-    p.add_argument("--min-views", type=int, default=DEFAULTS.min_views, help="occupied if inside >= this many views")
-    p.add_argument("--n-basis", type=int, default=DEFAULTS.n_basis, help="basis voxels per frame")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument(
+        "--l-res-fraction", type=positive_number, default=DEFAULTS.l_res_fraction, help="voxel size / subject height"
+    )
+    p.add_argument(
+        "--min-views", type=positive_integer, default=DEFAULTS.min_views, help="occupied if inside >= this many views"
+    )
+    p.add_argument("--n-basis", type=positive_integer, default=DEFAULTS.n_basis, help="basis voxels per frame")
+    p.add_argument("--seed", type=seed, default=0)
     add_output(p)
 
 

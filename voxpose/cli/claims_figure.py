@@ -3,7 +3,7 @@
 One module for both: they differ only in the table and drawing functions of ``voxpose.evaluation.claims_figures``.
 """
 
-import json
+from voxpose.cli.common import list_of, parse_json, record
 
 
 def add_arguments(p):
@@ -16,11 +16,11 @@ def _write(args, which: str) -> None:
     from voxpose.evaluation import claims_figures, figures
     from voxpose.io.atomic import atomic_path
 
-    table_of, draw = {
-        "cameras": (claims_figures.camera_table, claims_figures.camera_figure),
-        "robustness": (claims_figures.robustness_table, claims_figures.robustness_figure),
+    table_of, draw, keys = {
+        "cameras": (claims_figures.camera_table, claims_figures.camera_figure, ("rig", "cameras", "series")),
+        "robustness": (claims_figures.robustness_table, claims_figures.robustness_figure, ("kind", "level", "carving")),
     }[which]
-    table = table_of(json.loads(args.runs))
+    table = table_of(parse_json(args.runs, "--runs", list_of(record(*keys, "summary"))))
     with atomic_path(args.csv) as tmp:
         table.to_csv(tmp, index=False)
     figures.save(draw(table), args.png, "png")

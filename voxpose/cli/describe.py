@@ -3,6 +3,7 @@
 import logging
 
 from voxpose.cli.common import add_output, parse_params
+from voxpose.config_schema import section
 
 log = logging.getLogger("voxpose")
 
@@ -22,7 +23,7 @@ def run(args):
     from voxpose.descriptors.settings import DescriptorSettings
     from voxpose.voxels.sequence import read_voxels
 
-    cfg = parse_params(args.params)
+    cfg = parse_params(args.params, schema=section("descriptor", required=False))
     settings = DescriptorSettings.from_config(cfg, "--params")
     seq, meta, _ = read_voxels(args.voxels)
     descriptors = describe_sequence(seq, settings, threads=args.threads)

@@ -1,6 +1,6 @@
 """``voxpose error-over-time``: the per-frame error along the test motions."""
 
-from voxpose.cli.common import add_output
+from voxpose.cli.common import add_output, named_paths
 
 NAME = "error-over-time"
 HELP = "per-frame error along the test motions"
@@ -16,8 +16,7 @@ def run(args):
     from voxpose.io.hdf5 import read_per_motion
 
     series = {}
-    for pair in args.predictions:
-        title, path = pair.split("=", 1)
+    for title, path in named_paths(args.predictions, "--predictions"):
         motions, _ = read_per_motion(path, "predictions")
         series[title] = {name: p["frame_error_mvrvm"] for name, p in motions.items()}
     figures.save(figures.error_over_time(series), args.output, "png")

@@ -9,6 +9,7 @@ import json
 import logging
 
 from voxpose.cli.common import add_output, parse_params
+from voxpose.config_schema import section
 
 log = logging.getLogger("voxpose")
 
@@ -36,7 +37,7 @@ def run(args):
     from voxpose.io.hdf5 import read_per_motion, write_per_motion
     from voxpose.motion.data import read_motion
 
-    heading = parse_params(args.params).get("heading", "vector")
+    heading = parse_params(args.params, schema=section("regression")).get("heading", "vector")
     fitted = Fit.load(args.regressor, args.baselines, args.fit, heading=heading)
     features, meta = read_per_motion(args.features, "features")
     motions = {m.name: m for m in map(read_motion, args.motions)}

@@ -2,7 +2,8 @@
 
 import logging
 
-from voxpose.cli.common import parse_params
+from voxpose.cli.common import parse_params, seed
+from voxpose.config_schema import section
 from voxpose.errors import VoxposeError
 
 log = logging.getLogger("voxpose")
@@ -19,7 +20,7 @@ def add_arguments(p):
     p.add_argument("--voxels", required=True, help="JSON: the config's `voxels` section")
     p.add_argument("--descriptor", required=True, help="JSON: the config's `descriptor` section")
     p.add_argument("--regression", required=True, help="JSON: the config's `regression` section")
-    p.add_argument("--seed", type=int, required=True, help="master seed (the basis voxels' seed)")
+    p.add_argument("--seed", type=seed, required=True, help="master seed (the basis voxels' seed)")
     p.add_argument("--name", default="", help="label kept in the model's provenance (experiment/rig/...)")
     p.add_argument("-o", "--output", required=True, help="model file (HDF5)")
 
@@ -34,6 +35,9 @@ def run(args):
     from voxpose.motion.output_skeleton import OutputSkeleton
     from voxpose.regression.stored import regressor_from_arrays
 
+    voxels = parse_params(args.voxels, "--voxels", section("voxels", required=False))
+    descriptor = parse_params(args.descriptor, "--descriptor", section("descriptor", required=False))
+    regression = parse_params(args.regression, "--regression", section("regression"))
     motions = [read_motion(p) for p in args.motions]
     pca, mvrvm = regressor_from_arrays(*read_arrays(args.regressor, "regressor"))
     summary = read_summary(args.summary)
@@ -44,12 +48,12 @@ def run(args):
     if len(fps) != 1:
         raise VoxposeError(f"--motions: the training motions have different frame rates {sorted(fps)}")
     model = PoseModel(
-        voxels=voxel_settings(parse_params(args.voxels, "--voxels"), args.seed),
-        descriptor=parse_params(args.descriptor, "--descriptor"),
+        voxels=voxel_settings(voxels, args.seed),
+        descriptor=descriptor,
         features=FeatureModel.load(args.feature_model),
         pca=pca,
         mvrvm=mvrvm,
-        heading=parse_params(args.regression, "--regression").get("heading", "vector"),
+        heading=regression.get("heading", "vector"),
         skeleton=OutputSkeleton.from_motions(motions),
         fps=fps.pop(),
         provenance={"name": args.name, "train": train, "test": summary["test"], "voxpose": __version__,

@@ -1,6 +1,6 @@
 """``voxpose figure4``: Figure 4 (the cross-validation sweeps of Section 6) from the runs' summaries."""
 
-import json
+from voxpose.cli.common import list_of, parse_json, row
 
 NAME = "figure4"
 HELP = "Figure 4 from the cross-validation sweep summaries"
@@ -17,7 +17,7 @@ def run(args):
     from voxpose.evaluation import figures
     from voxpose.io.atomic import atomic_path
 
-    runs = json.loads(args.runs)
+    runs = parse_json(args.runs, "--runs", list_of(row("string", ["number", "string"], "string")))
     table = figures.figure4_table(runs)
     with atomic_path(args.csv) as tmp:
         table.to_csv(tmp, index=False)

@@ -1,6 +1,6 @@
 """``voxpose gallery``: a Figure 5-style gallery of voxels with the estimated and true skeletons."""
 
-from voxpose.cli.common import add_output
+from voxpose.cli.common import add_output, positive_integer
 
 NAME = "gallery"
 HELP = "Figure 5-style gallery: voxels with estimated and true skeletons"
@@ -9,7 +9,7 @@ HELP = "Figure 5-style gallery: voxels with estimated and true skeletons"
 def add_arguments(p):
     p.add_argument("predictions", help="predictions (HDF5) from `voxpose regress`")
     p.add_argument("voxels", nargs="+", help="voxel files (HDF5) of the test motions")
-    p.add_argument("--per-kind", type=int, default=3, help="frames shown per motion type")
+    p.add_argument("--per-kind", type=positive_integer, default=3, help="frames shown per motion type")
     add_output(p)
 
 

@@ -1,7 +1,7 @@
 """``voxpose generalisation-table``: the subject-held-out results, one row per (held-out group, method), as CSV,
 Markdown and a figure."""
 
-import json
+from voxpose.cli.common import list_of, parse_json, row
 
 NAME = "generalisation-table"
 HELP = "errors per held-out group and method (CSV + Markdown + figure)"
@@ -18,7 +18,8 @@ def run(args):
     from voxpose.evaluation.generalisation import generalisation_figure, generalisation_table
     from voxpose.evaluation.tables import read_summary, write_table
 
-    groups = [(name, read_summary(mppca), read_summary(kmeans)) for name, mppca, kmeans in json.loads(args.runs)]
+    runs = parse_json(args.runs, "--runs", list_of(row("string", "string", "string")))
+    groups = [(name, read_summary(mppca), read_summary(kmeans)) for name, mppca, kmeans in runs]
     df = generalisation_table(groups)
     write_table(df, args.csv, args.md, "Generalisation: each group held out in turn, RMS error (degrees) and "
                 "joint position error (mm) on the held-out group")  # fmt: skip

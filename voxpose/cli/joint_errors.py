@@ -1,6 +1,6 @@
 """``voxpose joint-errors``: bar chart of the error per joint of one or more runs."""
 
-from voxpose.cli.common import add_output
+from voxpose.cli.common import add_output, named_paths
 
 NAME = "joint-errors"
 HELP = "bar chart of the error per joint"
@@ -14,4 +14,6 @@ def add_arguments(p):
 def run(args):
     from voxpose.evaluation import figures
 
-    figures.save(figures.joint_errors(figures.summaries_from(args.summary)), args.output, "png")
+    figures.save(
+        figures.joint_errors(figures.summaries_from(named_paths(args.summary, "--summary"))), args.output, "png"
+    )

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 from voxpose.cli import (
     carve,
+    check_config,
     claims_figure,
     data_fetch,
     derive,
@@ -42,7 +43,9 @@ from voxpose.cli import (
     voxelize,
     voxelize_degraded,
 )
+from voxpose.cli.common import positive_integer
 from voxpose.errors import VoxposeError
+from voxpose.io.atomic import check_target
 
 log = logging.getLogger("voxpose")
 
@@ -56,7 +59,6 @@ def _setup_logging(log_file) -> None:
     if log_file:
         handlers.append(logging.FileHandler(log_file, mode="w"))
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s: %(message)s", handlers=handlers, force=True)
-
 
 
 @dataclass(frozen=True)
@@ -81,7 +83,7 @@ SUBCOMMANDS = dict(
     map(_of, (generate, derive, motion, rig, voxelize, carve, describe, fit_features, features, regress, evaluate,
               experiment_table, generalisation_table, table1, table2, figure4, joint_errors, error_over_time, gallery,
               voxelize_degraded, silhouette_contexts, fit_silhouette_features, silhouette_features, export_model,
-              predict, render, data_fetch))
+              predict, render, data_fetch, check_config))
 ) | {  # fmt: skip
     "camera-figure": Subcommand("error against camera rig: transferred, retrained, A&T", claims_figure.add_arguments,
                                 claims_figure.run_cameras, claims_figure.__name__),
@@ -90,14 +92,24 @@ SUBCOMMANDS = dict(
 }  # fmt: skip
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with the documented error form: one line ``voxpose: error: <command>: ...``, exit status 2."""
+
+    def error(self, message):
+        command = self.prog.removeprefix("voxpose").strip()
+        self.exit(2, f"voxpose: error: {command + ': ' if command else ''}{message}\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="voxpose", description=__doc__.splitlines()[0])
+    parser = _Parser(prog="voxpose", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name, command in SUBCOMMANDS.items():
         p = sub.add_parser(name, help=command.help, description=command.help)
         command.add_arguments(p)
         p.add_argument("--log", help="also write progress to this file")
-        p.add_argument("--threads", type=int, default=1, help="threads for numerical libraries (default 1)")
+        p.add_argument(
+            "--threads", type=positive_integer, default=1, help="threads for numerical libraries (default 1)"
+        )
     return parser
 
 
@@ -105,10 +117,14 @@ def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     for var in THREAD_VARIABLES:  # before numpy is imported: BLAS reads them once
-        os.environ.setdefault(var, str(max(1, args.threads)))
+        os.environ.setdefault(var, str(args.threads))
     _setup_logging(args.log)
     run = SUBCOMMANDS[args.command].run
     try:
+        for option in ("output", "csv", "md", "png", "pdf", "record", "predictions", "angles"):
+            target = getattr(args, option, None)
+            if isinstance(target, str):  # an output: before any work, a folder or a file in the way is a mistake
+                check_target(target)
         run(args)
     except VoxposeError as err:
         root = logging.getLogger()

@@ -3,6 +3,7 @@
 import logging
 
 from voxpose.cli.common import add_output, parse_params
+from voxpose.config_schema import section
 
 log = logging.getLogger("voxpose")
 
@@ -20,7 +21,7 @@ def run(args):
     from voxpose.motion.data import write_motion
     from voxpose.motion.load import load_motion
 
-    cfg = parse_params(args.params)
+    cfg = parse_params(args.params, schema=section("motions", required=False, drop=("overrides",)))
     motion = load_motion(
         args.bvh,
         fps=cfg.get("fps", 30.0),

@@ -1,8 +1,8 @@
 """``voxpose predict``: a model applied to calibrated silhouettes or voxels -> BVH, CSV and a record."""
 
 import logging
-from pathlib import Path
 
+from voxpose.cli.common import check_suffix, non_negative_number, positive_number
 from voxpose.errors import VoxposeError
 
 log = logging.getLogger("voxpose")
@@ -19,11 +19,13 @@ def add_arguments(p):
     p.add_argument("--rig", help="rig calibration file (JSON or YAML); needed with --silhouettes")
     p.add_argument(
         "--smooth",
-        type=float,
+        type=non_negative_number,
         default=0.0,
         help="Gaussian smoothing over time, sigma in frames (default 0: none, as in the paper)",
     )
-    p.add_argument("--fps", type=float, help="frame rate of the BVH (default: the voxel file's, else the model's)")
+    p.add_argument(
+        "--fps", type=positive_number, help="frame rate of the BVH (default: the voxel file's, else the model's)"
+    )
     p.add_argument("--csv", help="angles per frame (default: the output's name with .csv)")
     p.add_argument("--record", help="prediction record for `voxpose render` (default: the output's name with .h5)")
     p.add_argument(
@@ -39,9 +41,9 @@ def run(args):
     from voxpose.apply.outputs import write_outputs
     from voxpose.apply.predict import carve, check_voxels, predict_voxels
 
-    out = Path(args.output)
-    csv_path = Path(args.csv) if args.csv else out.with_suffix(".csv")
-    record_path = Path(args.record) if args.record else out.with_suffix(".h5")
+    out = check_suffix(args.output, "-o", ".bvh")
+    csv_path = check_suffix(args.csv, "--csv", ".csv") if args.csv else out.with_suffix(".csv")
+    record_path = check_suffix(args.record, "--record", ".h5") if args.record else out.with_suffix(".h5")
     if len({out.resolve(), csv_path.resolve(), record_path.resolve()}) < 3:
         raise VoxposeError(f"-o {out}: the BVH, CSV and record paths must differ")
     model = load_model(args.model)
@@ -62,7 +64,7 @@ def run(args):
 
         seq, meta, true_angles = read_voxels(args.voxels)
         check_voxels(model, seq, meta, args.voxels)
-        frames, fps = None, fps or meta.get("fps")
+        frames, fps = None, fps if fps is not None else meta.get("fps")
         source = {"voxels": str(args.voxels)}
     prediction = predict_voxels(model, seq, frames=frames, fps=fps, true_angles=true_angles, smooth=args.smooth,
                                 name=str(args.silhouettes or args.voxels))  # fmt: skip

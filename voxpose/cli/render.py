@@ -3,6 +3,7 @@
 import logging
 from pathlib import Path
 
+from voxpose.cli.common import check_suffix, positive_integer, positive_number
 from voxpose.errors import VoxposeError
 
 log = logging.getLogger("voxpose")
@@ -14,8 +15,8 @@ HELP = "animated GIF of a prediction: voxels with estimated (and true) skeleton"
 def add_arguments(p):
     p.add_argument("record", help="prediction record (HDF5) from `voxpose predict`")
     p.add_argument("--truth", help="true motion: a motion file (HDF5) from `voxpose motion`, or a BVH file")
-    p.add_argument("--every", type=int, default=1, help="draw every n-th frame (default 1)")
-    p.add_argument("--fps", type=float, help="playback rate (default: the prediction's frame rate)")
+    p.add_argument("--every", type=positive_integer, default=1, help="draw every n-th frame (default 1)")
+    p.add_argument("--fps", type=positive_number, help="playback rate (default: the prediction's frame rate)")
     p.add_argument("-o", "--output", required=True, help="animated GIF")
 
 
@@ -23,8 +24,7 @@ def run(args):
     from voxpose.apply.animation import render_gif
     from voxpose.apply.outputs import read_record
 
-    if Path(args.output).suffix.lower() != ".gif":
-        raise VoxposeError(f"-o {args.output}: render writes animated GIF files (.gif)")
+    check_suffix(args.output, "-o", ".gif")
     prediction, skeleton, _ = read_record(args.record)
     if args.truth:
         prediction.true_angles = _truth_angles(args.truth, len(prediction.valid))

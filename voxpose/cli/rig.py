@@ -3,6 +3,7 @@
 import logging
 
 from voxpose.cli.common import add_output, parse_params
+from voxpose.config_schema import section
 
 log = logging.getLogger("voxpose")
 
@@ -18,6 +19,6 @@ def add_arguments(p):
 def run(args):
     from voxpose.voxels.cameras import rig_from_config, save_rig
 
-    rig = rig_from_config(parse_params(args.params))
+    rig = rig_from_config(parse_params(args.params, schema=section("rig")))
     save_rig(rig, args.output)
     log.info("rig %s: %d cameras -> %s", rig.name, len(rig), args.output)

@@ -3,6 +3,7 @@
 import logging
 
 from voxpose.cli.common import add_output, parse_params
+from voxpose.config_schema import section
 
 log = logging.getLogger("voxpose")
 
@@ -24,7 +25,8 @@ def run(args):
     from voxpose.motion.data import read_motion
     from voxpose.voxels.cameras import load_rig
 
-    cfg, vcfg = parse_params(args.params), parse_params(args.voxel_params, "--voxel-params")
+    cfg = parse_params(args.params, schema=section("claims", "contour"))
+    vcfg = parse_params(args.voxel_params, "--voxel-params", section("voxels", required=False))
     motion, rig = read_motion(args.motion), load_rig(args.rig)
     contexts, offsets = render_contexts(
         motion, rig, cfg, proportions=vcfg.get("proportions") or None, follow_subject=vcfg.get("follow_subject", True)

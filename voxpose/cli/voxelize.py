@@ -1,6 +1,7 @@
 """``voxpose voxelize``: a motion -> body model -> silhouettes -> carved, surface and basis voxels (Sections 4, 6)."""
 
-from voxpose.cli.common import add_output, log_counts, parse_params, voxel_meta
+from voxpose.cli.common import add_output, log_counts, parse_params, seed, voxel_meta
+from voxpose.config_schema import section
 
 NAME = "voxelize"
 HELP = "motion -> body model -> silhouettes -> carved voxels (HDF5)"
@@ -10,7 +11,7 @@ def add_arguments(p):
     p.add_argument("motion", help="motion file (HDF5) from `voxpose motion`")
     p.add_argument("--rig", required=True, help="rig calibration file (JSON)")
     p.add_argument("--params", default="{}", help="JSON: the config's `voxels` section")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=seed, default=0)
     p.add_argument("--export-silhouettes", metavar="DIR", help="also write the rendered silhouettes as PNG folders")
     add_output(p)
 
@@ -22,7 +23,7 @@ def run(args):
     from voxpose.voxels.settings import VoxelSettings
     from voxpose.voxels.voxelize import voxelize_motion
 
-    cfg = parse_params(args.params)
+    cfg = parse_params(args.params, schema=section("voxels", required=False))
     settings = VoxelSettings.from_config(cfg, "--params")
     motion, rig = read_motion(args.motion), load_rig(args.rig)
     seq = voxelize_motion(

@@ -1,6 +1,16 @@
 """``voxpose voxelize-degraded``: silhouettes degraded as real segmentation degrades them, then carved."""
 
-from voxpose.cli.common import add_output, log_counts, parse_params, voxel_meta
+from voxpose.cli.common import add_output, log_counts, parse_params, seed, voxel_meta
+from voxpose.config_schema import section
+
+# one degradation of the robustness study (voxpose.workflow_config.degraded_sets); the level's range per kind is
+# checked by voxpose.voxels.degrade.Degradation
+DEGRADATION = {
+    "type": "object", "additionalProperties": False, "required": ["kind", "level"],
+    "properties": {"kind": {"enum": ["none", "flip", "morph", "limb", "calibration"]}, "level": {"type": "number"},
+                   "band_px": {"type": "integer", "minimum": 1},
+                   "min_views": {"type": ["integer", "null"], "minimum": 1}},
+}  # fmt: skip
 
 NAME = "voxelize-degraded"
 HELP = "motion -> degraded silhouettes -> carved voxels (HDF5)"
@@ -11,7 +21,7 @@ def add_arguments(p):
     p.add_argument("--rig", required=True, help="rig calibration file (JSON) the silhouettes are rendered with")
     p.add_argument("--params", default="{}", help="JSON: the config's `voxels` section")
     p.add_argument("--degradation", required=True, help='JSON: {"kind", "level", "band_px", "min_views"}')
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=seed, default=0)
     add_output(p)
 
 
@@ -22,7 +32,8 @@ def run(args):
     from voxpose.voxels.sequence import write_voxels
     from voxpose.voxels.settings import VoxelSettings
 
-    cfg, spec = parse_params(args.params), parse_params(args.degradation, "--degradation")
+    cfg = parse_params(args.params, schema=section("voxels", required=False))
+    spec = parse_params(args.degradation, "--degradation", DEGRADATION)
     motion, rig = read_motion(args.motion), load_rig(args.rig)
     degradation = Degradation(spec["kind"], spec["level"], args.seed, spec.get("band_px", 2))
     settings = VoxelSettings.from_config(cfg, "--params")

@@ -110,5 +110,5 @@ def error_over_time(series: dict):
 
 
 def summaries_from(pairs) -> dict:
-    """``["name=path", ...]`` -> {name: summary}."""
-    return {name: read_summary(path) for name, path in (p.split("=", 1) for p in pairs)}
+    """``[(name, path), ...]`` -> {name: summary}."""
+    return {name: read_summary(path) for name, path in pairs}

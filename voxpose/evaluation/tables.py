@@ -40,9 +40,9 @@ TABLE1_COLUMNS = {
 
 def read_summary(path) -> dict:
     try:
-        with open(path) as f:
+        with open(path, encoding="utf-8") as f:
             return json.load(f)
-    except (OSError, json.JSONDecodeError) as err:
+    except (OSError, ValueError) as err:  # ValueError: JSONDecodeError, UnicodeDecodeError (not a JSON file)
         raise VoxposeError(f"{path}: cannot read run summary ({err})") from None
 
 

@@ -13,6 +13,7 @@ The parser is a small hand-written tokenizer that keeps line numbers, so every p
 reported as a ``VoxposeError`` of the form ``path:line: what is wrong``.
 """
 
+import codecs
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -241,11 +242,17 @@ def _header_value(path, lines, index: int, words: tuple[str, ...]) -> tuple[str,
 
 
 def _motion_header(path, lines: list[str], start: int) -> tuple[int, float, int]:
-    """``(Frames, Frame Time, index of the first frame line)``; ``start`` is the index of the line after MOTION."""
+    """``(Frames, Frame Time, index of the first frame line)``; ``start`` is the index of the line after MOTION.
+
+    A file of 0 frames is refused here: no stage can use a motion without frames, and a derived copy of one
+    would be another empty file.
+    """
     value, index = _header_value(path, lines, start, ("Frames:",))
     if not (value.isascii() and value.isdigit()):
         raise VoxposeError(f"{path}:{index}: Frames: expected a whole number, found {value!r}")
     n_frames = int(value)
+    if n_frames == 0:
+        raise VoxposeError(f"{path}:{index}: Frames: 0, the file has no frames (a motion needs at least one)")
     value, index = _header_value(path, lines, index, ("Frame", "Time:"))
     frame_time = _number(value, lambda m: VoxposeError(f"{path}:{index}: Frame Time: {m}"))
     if frame_time <= 0:
@@ -253,9 +260,8 @@ def _motion_header(path, lines: list[str], start: int) -> tuple[int, float, int]
     return n_frames, frame_time, index
 
 
-def _parse_motion(path, lines: list[str], start: int, n_channels: int) -> tuple[float, np.ndarray]:
-    """Parse the MOTION part; ``start`` is the index of the line after ``MOTION``."""
-    n_frames, frame_time, index = _motion_header(path, lines, start)
+def _parse_frames(path, lines: list[str], index: int, n_frames: int, n_channels: int) -> np.ndarray:
+    """The (Frames, channels) values of the frame lines from line ``index`` (0-based) on."""
     rows = [(n + 1, line) for n, line in enumerate(lines[index:], start=index) if line.strip()]
     if len(rows) < n_frames:
         last = rows[-1][0] if rows else index
@@ -269,7 +275,7 @@ def _parse_motion(path, lines: list[str], start: int, n_channels: int) -> tuple[
     try:
         motion = np.array(split, dtype=np.float64).reshape(n_frames, n_channels)
         if np.all(np.isfinite(motion)):
-            return frame_time, motion
+            return motion
     except ValueError:
         pass
     # slow path, only to name the offending line
@@ -279,44 +285,89 @@ def _parse_motion(path, lines: list[str], start: int, n_channels: int) -> tuple[
     raise VoxposeError(f"{path}:{index}: frame values could not be read as numbers")
 
 
-def read_bvh(path) -> Bvh:
-    """Parse a BVH file; every problem raises ``VoxposeError("path:line: ...")``."""
-    path = Path(path)
+# byte-order marks of the encodings a BVH file is sometimes saved in (UTF-32 first: its LE mark starts UTF-16's)
+_BYTE_ORDER_MARKS = (
+    (codecs.BOM_UTF32_LE, "UTF-32 (little-endian)", "UTF-32"),
+    (codecs.BOM_UTF32_BE, "UTF-32 (big-endian)", "UTF-32"),
+    (codecs.BOM_UTF16_LE, "UTF-16 (little-endian)", "UTF-16"),
+    (codecs.BOM_UTF16_BE, "UTF-16 (big-endian)", "UTF-16"),
+)
+
+
+def _encoding_error(path, encoding: str, iconv: str) -> VoxposeError:
+    return VoxposeError(
+        f"{path}: the file is {encoding} text; BVH files are read as UTF-8 (or ASCII): convert it, e.g. "
+        f"iconv -f {iconv} -t UTF-8 {path} > converted.bvh"
+    )
+
+
+def _read_lines(path: Path) -> list[str]:
+    """The file's text lines, for every reader alike: UTF-8 (a byte-order mark is skipped), split at ``\\n``
+    only (a ``\\r`` before it dropped), so a line number means the same line to ``read_bvh`` and
+    ``read_duration`` and to a text editor. Other encodings, binary data and an empty file are refused by name.
+    """
     try:
-        text = path.read_text(encoding="utf-8", errors="replace")
+        data = path.read_bytes()
     except OSError as err:
         raise VoxposeError(f"{path}: cannot read BVH file: {err.strerror or err}") from None
-    lines = text.splitlines()
+    if not data:
+        raise VoxposeError(f"{path}: empty file (0 bytes), not a BVH file")
+    for mark, encoding, iconv in _BYTE_ORDER_MARKS:
+        if data.startswith(mark):
+            raise _encoding_error(path, encoding, iconv)
+    data = data.removeprefix(codecs.BOM_UTF8)
+    nul = data.find(b"\0")
+    if nul >= 0:
+        sample = data[:4096]
+        for zeros, encoding in ((sample[1::2], "UTF-16 (little-endian)"), (sample[0::2], "UTF-16 (big-endian)")):
+            if zeros.count(0) > 0.9 * len(zeros):  # ASCII text in UTF-16 without a byte-order mark
+                raise _encoding_error(path, encoding + " without a byte-order mark", "UTF-16")
+        line = data.count(b"\n", 0, nul) + 1
+        raise VoxposeError(f"{path}:{line}: binary data (a NUL byte), not a BVH text file")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as err:
+        line = data.count(b"\n", 0, err.start) + 1
+        raise VoxposeError(
+            f"{path}:{line}: byte 0x{data[err.start]:02x} is not UTF-8: BVH files are read as UTF-8 (or ASCII); "
+            f"convert the file from its encoding, e.g. iconv -f LATIN1 -t UTF-8 {path} > converted.bvh"
+        ) from None
+    lines = text.split("\n")
+    if lines[-1] == "":
+        lines.pop()  # the end of the last line, not a line
+    return [line.removesuffix("\r") for line in lines]
+
+
+def _parse_header(path, lines: list[str]) -> tuple[list[BvhJoint], int, float, int]:
+    """``(joints, Frames, Frame Time, index of the first frame line)``: everything but the frame lines."""
     motion_line = next((n for n, line in enumerate(lines) if line.split()[:1] == ["MOTION"]), None)
     if motion_line is None:
         raise VoxposeError(f"{path}:{len(lines)}: no MOTION section")
     if lines[motion_line].split() != ["MOTION"]:
         raise VoxposeError(f"{path}:{motion_line + 1}: unexpected text after MOTION")
     joints = _parse_hierarchy(path, lines, motion_line)
+    return joints, *_motion_header(path, lines, motion_line + 1)
+
+
+def read_bvh(path) -> Bvh:
+    """Parse a BVH file; every problem raises ``VoxposeError("path:line: ...")``."""
+    path = Path(path)
+    lines = _read_lines(path)
+    joints, n_frames, frame_time, index = _parse_header(path, lines)
     n_channels = sum(len(j.channels) for j in joints)
-    frame_time, motion = _parse_motion(path, lines, motion_line + 1, n_channels)
+    motion = _parse_frames(path, lines, index, n_frames, n_channels)
     return Bvh(joints=joints, frame_time=frame_time, motion=motion)
 
 
 def read_duration(path) -> tuple[int, float]:
-    """``(Frames, Frame Time)`` of a BVH file from its header alone, without reading the frames.
+    """``(Frames, Frame Time)`` of a BVH file, its header checked as ``read_bvh`` checks it, frames not read.
 
-    Cheap enough to size workflow jobs before they run (``workflow/rules/common.smk``); same errors as ``read_bvh``.
+    Cheap enough to size workflow jobs before they run (``workflow/rules/common.smk``: every file's header is
+    read while the workflow starts), with the same messages and line numbers as ``read_bvh``: a header error
+    is reported once, before any job runs, as ``voxpose motion`` would report it.
     """
     path = Path(path)
-    lines = []
-    try:
-        with open(path, encoding="utf-8", errors="replace") as f:
-            for line in f:
-                lines.append(line.rstrip("\n"))
-                if line.split()[:2] == ["Frame", "Time:"]:
-                    break
-    except OSError as err:
-        raise VoxposeError(f"{path}: cannot read BVH file: {err.strerror or err}") from None
-    motion_line = next((n for n, line in enumerate(lines) if line.split()[:1] == ["MOTION"]), None)
-    if motion_line is None:
-        raise VoxposeError(f"{path}:{len(lines)}: no MOTION section")
-    n_frames, frame_time, _ = _motion_header(path, lines, motion_line + 1)
+    _, n_frames, frame_time, _ = _parse_header(path, _read_lines(path))
     return n_frames, frame_time
 
 
@@ -351,8 +402,8 @@ def _check_writable(bvh: Bvh) -> None:
         raise VoxposeError("write_bvh: joints are not in depth-first order (a subtree is interleaved)")
     n_channels = sum(len(j.channels) for j in joints)
     motion = np.asarray(bvh.motion)
-    if motion.ndim != 2 or motion.shape[1] != n_channels:
-        raise VoxposeError(f"write_bvh: motion has shape {motion.shape}, expected (frames, {n_channels})")
+    if motion.ndim != 2 or motion.shape[1] != n_channels or motion.shape[0] < 1:
+        raise VoxposeError(f"write_bvh: motion has shape {motion.shape}, expected (frames >= 1, {n_channels})")
     if not np.all(np.isfinite(motion)):
         raise VoxposeError("write_bvh: motion holds NaN or infinite values")
     if not (np.isfinite(bvh.frame_time) and bvh.frame_time > 0):

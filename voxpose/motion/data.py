@@ -5,6 +5,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from voxpose.errors import VoxposeError
 from voxpose.io.atomic import atomic_path
 from voxpose.io.hdf5 import check_layout, new_file, open_layout, read_meta, write_meta
 
@@ -52,7 +53,9 @@ class MotionData:
 
 
 def write_motion(path, motion: MotionData) -> None:
-    """One motion's canonical poses, joint positions, end points and skeleton offsets."""
+    """One motion's canonical poses, joint positions, end points and skeleton offsets (at least one frame)."""
+    if motion.n_frames < 1:
+        raise VoxposeError(f"write_motion {path}: motion {motion.name!r} has no frames")
     with atomic_path(path) as tmp, new_file(tmp, "motion") as f:
         for key in ("positions", "rotations", "angles", "ends"):
             f.create_dataset(key, data=getattr(motion, key), compression="gzip", chunks=True)
@@ -62,9 +65,12 @@ def write_motion(path, motion: MotionData) -> None:
 
 
 def read_motion(path) -> MotionData:
+    """A motion file; one without frames (no stage can use it) is refused naming the file."""
     with open_layout(path, "motion") as f:
         check_layout(f, path, "motion")
         meta = read_meta(f)
+        if f["positions"].shape[0] < 1:
+            raise VoxposeError(f"{path}: the motion file has no frames")
         return MotionData(
             name=meta["name"],
             kind=meta["kind"],

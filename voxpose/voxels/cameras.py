@@ -282,9 +282,11 @@ def load_rig(path) -> Rig:
     """Read a rig file (format in the module docstring); every error names the file, camera and key."""
     path = Path(path)
     try:
-        text = path.read_text()
+        text = path.read_text(encoding="utf-8")
     except OSError as err:
         raise VoxposeError(f"{path}: cannot read rig file ({err.strerror})") from None
+    except UnicodeDecodeError:
+        raise VoxposeError(f"{path}: not a valid rig file (not JSON or YAML text)") from None
     try:
         data = yaml.safe_load(text) if path.suffix.lower() in (".yaml", ".yml") else json.loads(text)
     except (json.JSONDecodeError, yaml.YAMLError) as err:

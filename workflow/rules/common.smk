@@ -1,17 +1,14 @@
 # Helpers shared by all rules: config validation, the motion list, experiments, parameter-set tags.
 # All logic lives in voxpose.workflow_config (tested); this file only binds it to the workflow.
 
-import functools
 import json
 import math
 import shlex
 import sys
-from pathlib import Path
-
-import yaml
 
 from voxpose import workflow_config as wc
 from voxpose.cli.main import SUBCOMMANDS
+from voxpose.config_schema import load_yaml
 from voxpose.errors import VoxposeError
 from voxpose.import_graph import code_hash
 from voxpose.io.bvh import read_duration
@@ -29,9 +26,12 @@ def _note(message):
 
 
 try:
-    wc.validate_config(config, workflow.source_path("../../config/schema.yaml"))
+    wc.validate_config(config)
     if config["bvh_dir"]:
         SOURCE_BVH = wc.bvh_dir_motions(config["bvh_dir"])
+        # every header is read here, as `voxpose motion` reads it: a bad file is one line naming it, before any
+        # job (read lazily while Snakemake sized the jobs, it was a traceback blaming some rule)
+        DURATIONS = {name: read_duration(path) for name, path in SOURCE_BVH.items()}
         DERIVED, absent = wc.derived_motions(config.get("derived", []), SOURCE_BVH)
         if absent:
             _note(f"derived: skipped {len(absent)} of {len(absent) + len(DERIVED)} derived motions whose source is "
@@ -40,12 +40,12 @@ try:
         EXPERIMENT_CFG, EXPERIMENT_KEY = config["bvh_experiments"], "bvh_experiments"
         GENERALISATION_KEY = "bvh_generalisation"
     else:
-        SOURCE_BVH, DERIVED = {}, {}
+        SOURCE_BVH, DERIVED, DURATIONS = {}, {}, {}
         GENERATED = wc.generated_motions(config["generated"])
         EXPERIMENT_CFG, EXPERIMENT_KEY = config["experiments"], "experiments"
         GENERALISATION_KEY = "generalisation"
     MOTIONS = sorted([*SOURCE_BVH, *DERIVED, *GENERATED])
-    SHIPPED = yaml.safe_load(Path(workflow.source_path("../../config/config.yaml")).read_text())
+    SHIPPED = load_yaml(workflow.source_path("../../config/config.yaml"))
     EXPERIMENTS, SKIPPED = wc.resolve_experiments(EXPERIMENT_CFG, MOTIONS, EXPERIMENT_KEY, SHIPPED[EXPERIMENT_KEY])
     for name in SKIPPED:
         _note(f"{EXPERIMENT_KEY}.{name}: skipped, no training or no test motion among the {len(MOTIONS)} motions "
@@ -154,13 +154,12 @@ wildcard_constraints:
 # 16.3 s. Two 1-thread jobs side by side use both cores; a 2-thread job blocked the second core for little gain.
 
 
-@functools.cache
 def motion_frames(motion):
     """Frames a motion has once loaded (resampled to motions.fps), known before any of its jobs run: from the
     config for generated motions, from the BVH header otherwise (a derived motion has its source's duration)."""
     if motion in GENERATED:
         return GENERATED[motion][2]
-    n_frames, frame_time = read_duration(SOURCE_BVH[DERIVED[motion][1]] if motion in DERIVED else SOURCE_BVH[motion])
+    n_frames, frame_time = DURATIONS[DERIVED[motion][1] if motion in DERIVED else motion]
     return math.ceil(n_frames * frame_time * wc.motion_settings(motion, config["motions"])["fps"])
 
 
