@@ -39,6 +39,7 @@ from voxpose.cli import (
     silhouette_features,
     table1,
     table2,
+    verify,
     voxelize,
     voxelize_degraded,
 )
@@ -81,7 +82,7 @@ SUBCOMMANDS = dict(
     map(_of, (generate, derive, motion, rig, voxelize, carve, describe, fit_features, features, regress, evaluate,
               experiment_table, generalisation_table, table1, table2, figure4, joint_errors, error_over_time, gallery,
               voxelize_degraded, silhouette_contexts, fit_silhouette_features, silhouette_features, export_model,
-              predict, render, data_fetch))
+              predict, render, data_fetch, verify))
 ) | {  # fmt: skip
     "camera-figure": Subcommand("error against camera rig: transferred, retrained, A&T", claims_figure.add_arguments,
                                 claims_figure.run_cameras, claims_figure.__name__),
@@ -109,7 +110,7 @@ def main(argv=None) -> int:
     _setup_logging(args.log)
     run = SUBCOMMANDS[args.command].run
     try:
-        run(args)
+        status = run(args)  # None: success; a check (``verify``) may return 1 for what it found
     except VoxposeError as err:
         root = logging.getLogger()
         for handler in [h for h in root.handlers if type(h) is logging.StreamHandler]:
@@ -118,7 +119,7 @@ def main(argv=None) -> int:
         log.error("error: %s", err)
         print(f"voxpose: error: {err}", file=sys.stderr)
         return 2
-    return 0
+    return status or 0
 
 
 if __name__ == "__main__":
