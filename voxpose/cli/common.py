@@ -23,6 +23,18 @@ def add_output(p):
     p.add_argument("-o", "--output", required=True, help="output file")
 
 
+def add_table_csv(p):
+    """``--csv`` of a table and ``--config-hash``: the table's provenance goes beside it (``voxpose.provenance``)."""
+    p.add_argument("--csv", required=True, help="the table (CSV); its provenance is written beside it, NAME.meta.json")
+    p.add_argument("--config-hash", help="hash of the workflow config that made the table (the workflow sets it)")
+
+
+def write_table_meta(args) -> None:
+    from voxpose.provenance import write_meta
+
+    write_meta(args.csv, args.config_hash)
+
+
 def voxel_meta(rig, rig_path, cfg, source: str) -> dict:
     """Provenance of a voxel file: the rig's calibration as given, the parameters, the source."""
     return {"source": source, "rig": rig.name, "rig_calibration": Path(rig_path).read_text(), "params": cfg}

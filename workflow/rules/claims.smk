@@ -241,6 +241,8 @@ rule camera_figure:
     output:
         png=report("results/figures/camera_rigs.png", caption="../report/camera_rigs.rst", category="Claims"),
         csv=report("results/tables/camera_rigs.csv", caption="../report/camera_rigs_table.rst", category="Claims"),
+        meta=report("results/tables/camera_rigs.meta.json", caption="../report/provenance.rst",
+                    category="Provenance"),  # fmt: skip
     params:
         runs=arg(camera_runs()),
         code=code("camera-figure"),
@@ -252,7 +254,7 @@ rule camera_figure:
         mem_mb=1000,
         runtime=5,
     shell:
-        "voxpose camera-figure --runs {params.runs} --png {output.png} --csv {output.csv} --log {log}"
+        "voxpose camera-figure --runs {params.runs} --png {output.png} --csv {output.csv} --config-hash {CONFIG_HASH} --log {log}"
 
 
 rule robustness_figure:
@@ -261,6 +263,8 @@ rule robustness_figure:
     output:
         png=report("results/figures/robustness.png", caption="../report/robustness.rst", category="Claims"),
         csv=report("results/tables/robustness.csv", caption="../report/robustness_table.rst", category="Claims"),
+        meta=report("results/tables/robustness.meta.json", caption="../report/provenance.rst",
+                    category="Provenance"),  # fmt: skip
     params:
         runs=arg(robustness_runs()),
         code=code("robustness-figure"),
@@ -272,4 +276,4 @@ rule robustness_figure:
         mem_mb=1000,
         runtime=5,
     shell:
-        "voxpose robustness-figure --runs {params.runs} --png {output.png} --csv {output.csv} --log {log}"
+        "voxpose robustness-figure --runs {params.runs} --png {output.png} --csv {output.csv} --config-hash {CONFIG_HASH} --log {log}"

@@ -15,6 +15,7 @@ from voxpose.cli.main import SUBCOMMANDS
 from voxpose.errors import VoxposeError
 from voxpose.import_graph import code_hash
 from voxpose.io.bvh import read_duration
+from voxpose.provenance import config_hash
 
 
 def _fail(err):
@@ -67,6 +68,10 @@ try:
         raise VoxposeError(f"config key claims.experiment: no experiment named {config['claims']['experiment']!r}")
 except VoxposeError as err:
     _fail(err)
+
+# the config of this run, recorded beside every table it makes (voxpose.provenance); rules pass it in their shell
+# command's text, not as a param, so that a table is remade when its inputs change, not whenever any key changes
+CONFIG_HASH = config_hash(config)
 
 def held_out(group):
     """The internal experiment that holds out generalisation group ``group`` (a name no config experiment has)."""

@@ -10,6 +10,8 @@ rule table1:
         at_all=run_file("table1", AT_ALL, "summary.json", desc=CTX),
     output:
         csv=report("results/tables/table1.csv", caption="../report/table1.rst", category="Tables"),
+        meta=report("results/tables/table1.meta.json", caption="../report/provenance.rst",
+                    category="Provenance"),  # fmt: skip
         md="results/tables/table1.md",
     params:
         code=code("table1"),
@@ -22,7 +24,7 @@ rule table1:
         runtime=2,
     shell:
         "voxpose table1 --ours {input.ours} --kmeans {input.kmeans} --at-one {input.at_one} --at-all {input.at_all}"
-        " --csv {output.csv} --md {output.md} --log {log}"
+        " --csv {output.csv} --config-hash {CONFIG_HASH} --md {output.md} --log {log}"
 
 
 rule table2:
@@ -30,6 +32,8 @@ rule table2:
         summary=run_file("table2", MPPCA, "summary.json"),
     output:
         csv=report("results/tables/table2.csv", caption="../report/table2.rst", category="Tables"),
+        meta=report("results/tables/table2.meta.json", caption="../report/provenance.rst",
+                    category="Provenance"),  # fmt: skip
         md="results/tables/table2.md",
     params:
         code=code("table2"),
@@ -41,7 +45,7 @@ rule table2:
         mem_mb=500,
         runtime=2,
     shell:
-        "voxpose table2 --summary {input.summary} --csv {output.csv} --md {output.md} --log {log}"
+        "voxpose table2 --summary {input.summary} --csv {output.csv} --config-hash {CONFIG_HASH} --md {output.md} --log {log}"
 
 
 rule experiment_table:
@@ -50,6 +54,8 @@ rule experiment_table:
     output:
         csv=report("results/tables/experiments/{exp}.csv", caption="../report/experiment_table.rst",
                    category="Experiments", subcategory="{exp}"),  # fmt: skip
+        meta=report("results/tables/experiments/{exp}.meta.json", caption="../report/provenance.rst",
+                    category="Provenance", subcategory="{exp}"),  # fmt: skip
         md="results/tables/experiments/{exp}.md",
     params:
         sets=lambda w: " ".join(
@@ -65,7 +71,7 @@ rule experiment_table:
         mem_mb=500,
         runtime=2,
     shell:
-        "voxpose experiment-table --name {wildcards.exp} {params.sets} --csv {output.csv} --md {output.md} --log {log}"
+        "voxpose experiment-table --name {wildcards.exp} {params.sets} --csv {output.csv} --config-hash {CONFIG_HASH} --md {output.md} --log {log}"
 
 
 rule generalisation_table:
@@ -74,6 +80,8 @@ rule generalisation_table:
     output:
         csv=report("results/tables/generalisation.csv", caption="../report/generalisation_table.rst",
                    category="Generalisation"),  # fmt: skip
+        meta=report("results/tables/generalisation.meta.json", caption="../report/provenance.rst",
+                    category="Provenance"),  # fmt: skip
         md="results/tables/generalisation.md",
         png=report("results/figures/generalisation.png", caption="../report/generalisation.rst",
                    category="Generalisation"),  # fmt: skip
@@ -89,4 +97,4 @@ rule generalisation_table:
         mem_mb=1000,
         runtime=2,
     shell:
-        "voxpose generalisation-table --runs {params.runs} --csv {output.csv} --md {output.md} --png {output.png} --log {log}"
+        "voxpose generalisation-table --runs {params.runs} --csv {output.csv} --config-hash {CONFIG_HASH} --md {output.md} --png {output.png} --log {log}"

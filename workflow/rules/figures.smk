@@ -8,6 +8,8 @@ rule figure4:
         png=report("results/figures/figure4.png", caption="../report/figure4.rst", category="Figures"),
         pdf="results/figures/figure4.pdf",
         csv=report("results/tables/figure4.csv", caption="../report/figure4_table.rst", category="Tables"),
+        meta=report("results/tables/figure4.meta.json", caption="../report/provenance.rst",
+                    category="Provenance"),  # fmt: skip
     params:
         runs=arg([[label, value, f"{d}/summary.json"] for label, value, d in figure4_runs()]),
         code=code("figure4"),
@@ -19,7 +21,7 @@ rule figure4:
         mem_mb=1000,
         runtime=5,
     shell:
-        "voxpose figure4 --runs {params.runs} --png {output.png} --pdf {output.pdf} --csv {output.csv} --log {log}"
+        "voxpose figure4 --runs {params.runs} --png {output.png} --pdf {output.pdf} --csv {output.csv} --config-hash {CONFIG_HASH} --log {log}"
 
 
 rule gallery:
