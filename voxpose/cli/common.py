@@ -2,11 +2,15 @@
 
 import json
 import logging
+import os
 from pathlib import Path
 
 from voxpose.errors import VoxposeError
 
 log = logging.getLogger("voxpose")
+
+# the workflow (workflow/rules/common.smk) puts its config hash here for the table commands
+CONFIG_HASH_VARIABLE = "VOXPOSE_CONFIG_HASH"
 
 
 def parse_params(text: str, what: str = "--params") -> dict:
@@ -26,7 +30,8 @@ def add_output(p):
 def add_table_csv(p):
     """``--csv`` of a table and ``--config-hash``: the table's provenance goes beside it (``voxpose.provenance``)."""
     p.add_argument("--csv", required=True, help="the table (CSV); its provenance is written beside it, NAME.meta.json")
-    p.add_argument("--config-hash", help="hash of the workflow config that made the table (the workflow sets it)")
+    p.add_argument("--config-hash", default=os.environ.get(CONFIG_HASH_VARIABLE),
+                   help=f"hash of the config that made the table (default: ${CONFIG_HASH_VARIABLE}, set by the workflow)")
 
 
 def write_table_meta(args) -> None:

@@ -4,6 +4,7 @@
 import functools
 import json
 import math
+import os
 import shlex
 import sys
 from pathlib import Path
@@ -69,9 +70,14 @@ try:
 except VoxposeError as err:
     _fail(err)
 
-# the config of this run, recorded beside every table it makes (voxpose.provenance); rules pass it in their shell
-# command's text, not as a param, so that a table is remade when its inputs change, not whenever any key changes
-CONFIG_HASH = config_hash(config)
+# The config of this run, recorded beside every table it makes (voxpose.provenance): the table commands read it from
+# the environment, not from a param, so that a table is remade when its inputs change, not whenever any config key
+# does; `envvars` passes it on to cluster jobs.
+os.environ["VOXPOSE_CONFIG_HASH"] = config_hash(config)
+
+
+envvars:
+    "VOXPOSE_CONFIG_HASH",
 
 def held_out(group):
     """The internal experiment that holds out generalisation group ``group`` (a name no config experiment has)."""
@@ -181,7 +187,7 @@ def by_input(base, per_input_mb=0):
 
 def code(subcommand):
     """Content hash of the import closure of the module that defines ``voxpose <subcommand>``, the command the
-    rule runs (Snakemake does not see edits to the installed package): editing any module the command reaches,
+    rule runs (Snakemake does not see edits to the installed package); editing any module the command reaches,
     directly or not, reruns the rule and its dependants, and nothing else (voxpose.import_graph)."""
     return code_hash(SUBCOMMANDS[subcommand].module)
 

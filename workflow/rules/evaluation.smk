@@ -2,7 +2,7 @@
 # per-experiment tables and the subject-held-out (generalisation) table.
 
 
-rule table1:
+rule table1:  # lint: no conda/container, see Snakefile
     input:
         ours=run_file("table1", MPPCA, "summary.json"),
         kmeans=run_file("table1", KMEANS, "summary.json"),
@@ -24,10 +24,10 @@ rule table1:
         runtime=2,
     shell:
         "voxpose table1 --ours {input.ours} --kmeans {input.kmeans} --at-one {input.at_one} --at-all {input.at_all}"
-        " --csv {output.csv} --config-hash {CONFIG_HASH} --md {output.md} --log {log}"
+        " --csv {output.csv} --md {output.md} --log {log}"
 
 
-rule table2:
+rule table2:  # lint: no conda/container, see Snakefile
     input:
         summary=run_file("table2", MPPCA, "summary.json"),
     output:
@@ -45,10 +45,10 @@ rule table2:
         mem_mb=500,
         runtime=2,
     shell:
-        "voxpose table2 --summary {input.summary} --csv {output.csv} --config-hash {CONFIG_HASH} --md {output.md} --log {log}"
+        "voxpose table2 --summary {input.summary} --csv {output.csv} --md {output.md} --log {log}"
 
 
-rule experiment_table:
+rule experiment_table:  # lint: no conda/container, see Snakefile
     input:
         lambda w: [f"{test_dir(w.exp, DESC, feat, s)}/summary.json" for s in TESTS[w.exp] for feat in (MPPCA, KMEANS)],
     output:
@@ -71,10 +71,10 @@ rule experiment_table:
         mem_mb=500,
         runtime=2,
     shell:
-        "voxpose experiment-table --name {wildcards.exp} {params.sets} --csv {output.csv} --config-hash {CONFIG_HASH} --md {output.md} --log {log}"
+        "voxpose experiment-table --name {wildcards.exp} {params.sets} --csv {output.csv} --md {output.md} --log {log}"
 
 
-rule generalisation_table:
+rule generalisation_table:  # lint: no conda/container, see Snakefile
     input:
         lambda w: [f"{test_dir(held_out(g), DESC, feat)}/summary.json" for g in HELD_OUT for feat in (MPPCA, KMEANS)],
     output:
@@ -97,4 +97,4 @@ rule generalisation_table:
         mem_mb=1000,
         runtime=2,
     shell:
-        "voxpose generalisation-table --runs {params.runs} --csv {output.csv} --config-hash {CONFIG_HASH} --md {output.md} --png {output.png} --log {log}"
+        "voxpose generalisation-table --runs {params.runs} --csv {output.csv} --md {output.md} --png {output.png} --log {log}"

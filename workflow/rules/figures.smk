@@ -1,7 +1,7 @@
 # Figure 4 (cross-validation sweeps), a Figure 5-style gallery, per-joint errors and errors over time.
 
 
-rule figure4:
+rule figure4:  # lint: no conda/container, see Snakefile
     input:
         [f"{d}/summary.json" for _, _, d in figure4_runs()],
     output:
@@ -21,10 +21,10 @@ rule figure4:
         mem_mb=1000,
         runtime=5,
     shell:
-        "voxpose figure4 --runs {params.runs} --png {output.png} --pdf {output.pdf} --csv {output.csv} --config-hash {CONFIG_HASH} --log {log}"
+        "voxpose figure4 --runs {params.runs} --png {output.png} --pdf {output.pdf} --csv {output.csv} --log {log}"
 
 
-rule gallery:
+rule gallery:  # lint: no conda/container, see Snakefile
     input:
         predictions=run_file("table2", MPPCA, "predictions.h5"),
         voxels=lambda w: expand("results/voxels/{rig}/{motion}.h5", rig=RIG, motion=EXPERIMENTS["table2"]["test"]),
@@ -42,7 +42,7 @@ rule gallery:
         "voxpose gallery {input.predictions} -o {output} --log {log} {input.voxels}"
 
 
-rule joint_errors:
+rule joint_errors:  # lint: no conda/container, see Snakefile
     input:
         table1=run_file("table1", MPPCA, "summary.json"),
         table2=run_file("table2", MPPCA, "summary.json"),
@@ -61,7 +61,7 @@ rule joint_errors:
         "voxpose joint-errors --summary table1={input.table1} --summary table2={input.table2} -o {output} --log {log}"
 
 
-rule error_over_time:
+rule error_over_time:  # lint: no conda/container, see Snakefile
     input:
         table1=run_file("table1", MPPCA, "predictions.h5"),
         table2=run_file("table2", MPPCA, "predictions.h5"),

@@ -2,7 +2,7 @@
 # feature model, pose PCA, MVRVM and output skeleton in one versioned HDF5 file (voxpose/apply/model_file.py).
 
 
-rule export_model:
+rule export_model:  # lint: no conda/container, see Snakefile
     input:
         feature_model=lambda w: f"results/features/{TRAIN[w.exp]}/{w.rig}/{w.desc}/{w.feat}/model.h5",
         regressor=lambda w: f"{run_dir(w.exp, w.desc, w.feat, w.rig)}/regressor.h5",
