@@ -31,7 +31,7 @@ def add_table_csv(p):
     """``--csv`` of a table and ``--config-hash``: the table's provenance goes beside it (``voxpose.provenance``)."""
     p.add_argument("--csv", required=True, help="the table (CSV); its provenance is written beside it, NAME.meta.json")
     p.add_argument("--config-hash", default=os.environ.get(CONFIG_HASH_VARIABLE),
-                   help=f"hash of the config that made the table (default: ${CONFIG_HASH_VARIABLE}, set by the workflow)")
+                   help=f"hash of the config that made the table (default: ${CONFIG_HASH_VARIABLE}, the workflow's)")
 
 
 def write_table_meta(args) -> None:
