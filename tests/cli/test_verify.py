@@ -24,6 +24,8 @@ def test_lists_and_removes_exactly_the_damaged_files(tmp_path, capsys):
     assert len(out) == 3 and out[2].startswith("2 damaged")
 
     assert main(["verify", str(results), "--remove"]) == 0
+    removed = capsys.readouterr().out.splitlines()[-1]
+    assert removed.endswith("snakemake --forcerun results/a/bad.h5 results/b/also_bad.h5"), removed
     assert sorted(p.relative_to(results).as_posix() for p in results.rglob("*.*")) == [
         "a/good.h5", "b/good.h5", "notes.txt",
     ]  # fmt: skip

@@ -1,8 +1,10 @@
 """``voxpose verify``: find the damaged HDF5 caches of a workflow's results (content checksums) and the rule that
-makes each; ``--remove`` deletes them, so that the next ``snakemake`` makes exactly those again and, because they are
-then newer, everything made from them."""
+makes each; ``--remove`` deletes them and prints the ``snakemake --forcerun FILE...`` that makes exactly those again
+and everything made from them (a plain ``snakemake`` does not remake a missing intermediate file whose dependants
+are up to date: it makes it again only when a job needs it)."""
 
-import logging
+import os
+import shlex
 from pathlib import Path
 
 from voxpose.errors import VoxposeError
@@ -10,12 +12,11 @@ from voxpose.errors import VoxposeError
 NAME = "verify"
 HELP = "list damaged cache files (checksums) and the rules that make them; --remove deletes them"
 
-log = logging.getLogger("voxpose")
-
 
 def add_arguments(p):
     p.add_argument("results", nargs="?", default="results", help="the workflow's results folder (default results)")
-    p.add_argument("--remove", action="store_true", help="delete the damaged files, for snakemake to make again")
+    p.add_argument("--remove", action="store_true", help="delete the damaged files and print the snakemake command "
+                   "that makes them and their dependants again")  # fmt: skip
 
 
 def run(args):
@@ -38,5 +39,7 @@ def run(args):
         return 1
     for path, _ in damaged:
         path.unlink()
-    print(f"removed {len(damaged)} damaged files; the next snakemake run makes them and their dependants again")
+    again = " ".join(shlex.quote(os.path.relpath(path.resolve(), workdir)) for path, _ in damaged)
+    print(f"removed {len(damaged)} damaged files; in {workdir}, this makes them and everything made from them "
+          f"again (with your usual options): snakemake --forcerun {again}")  # fmt: skip
     return 0
