@@ -20,9 +20,9 @@ rule export_model:  # lint: no conda/container, see Snakefile
     log:
         "results/logs/export_model/{exp}/{rig}/{desc}/{feat}.log",
     threads: 1
-    resources:
-        mem_mb=2000,
-        runtime=5,
+    resources:  # measured: 104 MB, 1.2-1.3 s CPU on 0.7-0.9 MB
+        mem_mb=by_input(300, 20),
+        runtime=by_input(5, 1),
     shell:
         "voxpose export-model --feature-model {input.feature_model} --regressor {input.regressor}"
         " --summary {input.summary} --motions {input.motions} --voxels {params.voxels}"
