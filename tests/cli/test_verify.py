@@ -1,6 +1,9 @@
 """``voxpose verify``: lists exactly the damaged cache files with the rule that makes each; ``--remove`` deletes
 exactly those."""
 
+import os
+from pathlib import Path
+
 import numpy as np
 
 from tests.helpers import ROOT
@@ -45,4 +48,6 @@ def test_rules_come_from_the_workflow():
         ROOT / "results/descriptors/circle6/R0.3333-r2-4x5x10-soft/walk_gen_00.h5",
         ROOT / "results/not/a/cache.h5",
     ]
+    cwd, environ = Path.cwd(), dict(os.environ)
     assert list(producing_rules(paths, ROOT).values()) == ["motion", "voxelize", "describe", None]
+    assert (Path.cwd(), dict(os.environ)) == (cwd, environ)  # the workflow's setup does not leak into the caller

@@ -19,12 +19,16 @@ def damaged_caches(results) -> list[tuple[Path, str]]:
 
 
 @contextlib.contextmanager
-def _cwd(path):
-    before = Path.cwd()
+def _restored():
+    """The working directory and environment as they were: loading a workflow changes both (the Snakefile may set
+    variables for its jobs), and the caller's process must not inherit them."""
+    cwd, environ = Path.cwd(), dict(os.environ)
     try:
         yield
     finally:
-        os.chdir(before)
+        os.chdir(cwd)
+        os.environ.clear()
+        os.environ.update(environ)
 
 
 def producing_rules(paths, workdir) -> dict:
@@ -37,7 +41,7 @@ def producing_rules(paths, workdir) -> dict:
 
     workdir = Path(workdir).resolve()
     relative = {p: os.path.relpath(Path(p).resolve(), workdir) for p in paths}
-    with _cwd(workdir), SnakemakeApi(OutputSettings(quiet={Quietness.ALL})) as api:
+    with _restored(), SnakemakeApi(OutputSettings(quiet={Quietness.ALL})) as api:
         workflow = api.workflow(resource_settings=ResourceSettings(), snakefile=workdir / "Snakefile",
                                 workdir=workdir)._workflow  # fmt: skip
         rules = list(workflow.rules)
