@@ -2,7 +2,10 @@
 
 Run as root on Debian/Ubuntu, with ``voxpose[slurm]`` installed in the active environment:
 
-    python tests/cluster/local_slurm.py          (or: VOXPOSE_SLURM_TEST=1 pytest tests/cluster -s)
+    python tests/cluster/local_slurm.py [TARGET ...]     (or: VOXPOSE_SLURM_TEST=1 pytest tests/cluster -s)
+
+(TARGETs: files to make instead of the whole quick DAG, e.g. one feature model, for a shorter check; their HDF5
+content checksums are compared instead of the tables.)
 
 1. Installs Debian's ``slurm-wlm`` and ``munge`` with apt-get if ``slurmctld`` is missing.
 2. Starts munged, slurmctld and slurmd in the foreground as child processes, with their own key, socket and
@@ -10,8 +13,11 @@ Run as root on Debian/Ubuntu, with ``voxpose[slurm]`` installed in the active en
    one node and partition on 127.0.0.1, no accounting database, ``MinJobAge`` long enough for ``squeue`` status
    and ``scontrol show job`` afterwards.
 3. Runs the quick configuration in two copies of the repository: locally (``--cores 2``) and through
-   ``--workflow-profile profiles/slurm`` (job states via squeue, since there is no accounting database). An
-   ``sbatch`` wrapper first on PATH records every submission's arguments and job id.
+   ``--workflow-profile profiles/slurm`` as shipped (its status command is not overridden; only the first status
+   check comes sooner) on this cluster without accounting, where ``sacct`` is installed and fails, as it does on
+   such sites. A run that stops making progress for ``STALL_S`` seconds is stopped and fails (the plugin polling a
+   failing ``sacct`` forever was issue 21's hang). An ``sbatch`` wrapper first on PATH records every submission's
+   arguments and job id.
 4. Checks that every non-local Snakemake job ran inside a SLURM job, that each SLURM job COMPLETED with exit code 0
    and with the memory, time limit and CPUs that were requested (``scontrol show job``), that single jobs
    requested their rule's own resources and group jobs at least their members' largest, and that the tables are
@@ -38,6 +44,7 @@ SYSTEM_CONF = Path("/etc/slurm/slurm.conf")
 MARK = "# written by voxpose tests/cluster/local_slurm.py; removed when it stops\n"
 COPIED = ("Snakefile", "workflow", "config", "profiles")
 CONFIG = "config/quick.yaml"
+STALL_S = 600  # no new line in a run's log for this long: it hangs (a quick-config job takes well under a minute)
 
 SLURM_CONF = """\
 ClusterName=voxposetest
@@ -180,14 +187,33 @@ def copy_repo(dest: Path) -> Path:
 
 
 def snakemake(workdir: Path, args: list[str], env: dict, logfile: Path) -> float:
+    """Run Snakemake to the end; fail if it does, or if its log stays silent for ``STALL_S`` seconds (a hang)."""
     cmd = [sys.executable, "-m", "snakemake", *args, "--configfile", CONFIG]
     log(f"({workdir.name}) {' '.join(cmd[1:])}")
     t0 = time.monotonic()
     with open(logfile, "w") as out:
-        proc = subprocess.run(cmd, cwd=workdir, env=env, stdout=out, stderr=subprocess.STDOUT)
+        proc = subprocess.Popen(cmd, cwd=workdir, env=env, stdout=out, stderr=subprocess.STDOUT)
+        while proc.poll() is None:
+            time.sleep(5)
+            if time.time() - logfile.stat().st_mtime > STALL_S:
+                proc.send_signal(signal.SIGINT)  # Snakemake cancels its SLURM jobs on an interrupt
+                try:
+                    proc.wait(timeout=120)
+                except subprocess.TimeoutExpired:
+                    proc.kill()
+                    proc.wait()
+                raise AssertionError(f"snakemake in {workdir} hung: no progress for {STALL_S} s; last lines of "
+                                     f"{logfile}:\n{logfile.read_text()[-3000:]}")  # fmt: skip
     if proc.returncode != 0:
         raise AssertionError(f"snakemake failed in {workdir}; last lines of {logfile}:\n{logfile.read_text()[-5000:]}")
     return time.monotonic() - t0
+
+
+def check_without_accounting() -> str:
+    """This cluster is one the shipped profile must survive: sacct installed, and failing."""
+    proc = subprocess.run(["sacct", "-n", "-X"], capture_output=True, text=True)
+    assert proc.returncode != 0 or "disabled" in proc.stderr, f"sacct works here: {proc.stdout}{proc.stderr}"
+    return f"sacct fails here, as on a cluster without accounting: {proc.stderr.strip().splitlines()[-1]}"
 
 
 def job_key(rule: str, wildcards: dict) -> str:
@@ -277,6 +303,21 @@ def check_cluster_run(text: str, record: Path) -> list[str]:
     return lines
 
 
+def compare_checksums(local: Path, cluster: Path, targets: list[str]) -> list[str]:
+    """The targets' HDF5 content checksums (voxpose.io.checksum) agree between the two runs."""
+    import h5py
+
+    lines = []
+    for target in targets:
+        sums = []
+        for run in (local, cluster):
+            with h5py.File(run / target, "r") as f:
+                sums.append(f.attrs["checksum"])
+        assert sums[0] == sums[1], f"{target} differs between the local and the SLURM run"
+        lines.append(f"identical content: {target} ({sums[0]})")
+    return lines
+
+
 def compare_tables(local: Path, cluster: Path) -> list[str]:
     names = sorted(p.relative_to(local) for p in (local / "results/tables").glob("*.*"))
     assert names, "the local run wrote no tables"
@@ -288,7 +329,7 @@ def compare_tables(local: Path, cluster: Path) -> list[str]:
     return lines
 
 
-def main() -> int:
+def main(targets: list[str]) -> int:
     if os.geteuid() != 0:
         sys.exit("local_slurm: must run as root (installs packages, runs slurmd)")
     t_start = time.monotonic()
@@ -308,14 +349,15 @@ def main() -> int:
         local, cluster = copy_repo(tmp / "local"), copy_repo(tmp / "cluster")
         with LocalSlurm(tmp / "slurm"):
             env = os.environ | {"PATH": path}
-            t_cluster = snakemake(cluster, ["--workflow-profile", "profiles/slurm", "--slurm-status-command", "squeue",
-                                            "--slurm-init-seconds-before-status-checks", "5"],
-                                  env, tmp / "cluster.log")
+            report = [check_without_accounting()]
+            t_cluster = snakemake(cluster, ["--workflow-profile", "profiles/slurm",
+                                            "--slurm-init-seconds-before-status-checks", "5", *targets],
+                                  env, tmp / "cluster.log")  # fmt: skip
             log(f"SLURM run took {t_cluster:.0f} s")
-            report = check_cluster_run((tmp / "cluster.log").read_text(), record)
-        t_local = snakemake(local, ["--cores", "2"], os.environ | {"PATH": path}, tmp / "local.log")
+            report += check_cluster_run((tmp / "cluster.log").read_text(), record)
+        t_local = snakemake(local, ["--cores", "2", *targets], os.environ | {"PATH": path}, tmp / "local.log")
         log(f"local run took {t_local:.0f} s")
-        report += compare_tables(local, cluster)
+        report += compare_checksums(local, cluster, targets) if targets else compare_tables(local, cluster)
     except BaseException:
         log(f"FAILED; kept {tmp} (logs: cluster.log, local.log, slurm/, cluster/.snakemake/slurm_logs)")
         raise
@@ -326,4 +368,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(main(sys.argv[1:]))

@@ -6,16 +6,20 @@ subprocess); later tests ask dry runs which rules a change would schedule.
 
 import csv
 import json
+import os
 import re
 from pathlib import Path
 
+import h5py
 import numpy as np
 import pandas as pd
 import pytest
 import yaml
+from snakemake.utils import update_config
 
-from tests.helpers import ROOT, copy_workflow, scheduled, snakemake
+from tests.helpers import ROOT, copy_workflow, run_voxpose, scheduled, snakemake
 from voxpose import workflow_config as wc
+from voxpose.provenance import NOT_GIT, config_hash
 
 pytestmark = pytest.mark.workflow  # slow: deselect with -m "not workflow"
 
@@ -262,6 +266,62 @@ def test_same_config_gives_identical_tables(workflow_dir):
     before = [p.read_bytes() for p in tables]
     snakemake(workflow_dir, *(str(p.relative_to(workflow_dir)) for p in tables), "--forcerun", "fit_features")
     assert [p.read_bytes() for p in tables] == before
+
+
+def _damage(path, how):
+    """Damage a cache file as a failing disk or an interrupted copy would, keeping its timestamp (so that Snakemake
+    sees nothing): cut its last third, or invert 16 bytes inside the first compressed chunk of its descriptors."""
+    stat = path.stat()
+    data = bytearray(path.read_bytes())
+    if how == "truncate":
+        data = data[: len(data) * 2 // 3]
+    else:
+        with h5py.File(path) as f:
+            chunk = f["descriptors"].id.get_chunk_info(0)
+        at = chunk.byte_offset + chunk.size // 2
+        data[at : at + 16] = bytes(b ^ 0xFF for b in data[at : at + 16])
+    path.write_bytes(bytes(data))
+    os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+
+
+def test_verify_finds_damaged_caches_and_their_forced_rerun_gives_identical_tables(workflow_dir):
+    tables = sorted((workflow_dir / "results/tables").rglob("*.csv"))
+    before = [p.read_bytes() for p in tables]
+    voxels = "results/voxels/irregular6/drunk_gen_00.h5"  # a claims rig's test motion: few dependants
+    descriptors = "results/descriptors/circle6-quick/R0.3-r2-4x5x10-soft/walk_gen_00.h5"  # a Figure 4 sweep point
+    _damage(workflow_dir / voxels, "truncate")
+    _damage(workflow_dir / descriptors, "flip")
+    assert scheduled(workflow_dir) == {}  # Snakemake alone sees nothing
+
+    proc = run_voxpose("verify", "results", cwd=workflow_dir)
+    assert proc.returncode == 1, proc.stderr
+    found = proc.stdout.splitlines()
+    assert len(found) == 3, proc.stdout
+    assert found[0].startswith(f"{descriptors}: ") and found[0].endswith("(made by rule describe)")
+    assert found[1].startswith(f"{voxels}: not a readable HDF5 file") and found[1].endswith("(made by rule voxelize)")
+
+    proc = run_voxpose("verify", "--remove", "results", cwd=workflow_dir)
+    assert proc.returncode == 0, proc.stderr
+    again = proc.stdout.splitlines()[-1].split(": snakemake ", 1)[1].split()
+    assert again == ["--forcerun", descriptors, voxels]
+    jobs = scheduled(workflow_dir, args=again)
+    # exactly those and their dependants: one carving, two descriptor files, one Figure 4 point's fit
+    assert (jobs["voxelize"], jobs["describe"], jobs["regress"]) == (1, 2, 1)
+    assert not {"generate_bvh", "motion", "table1", "table2"} & set(jobs)
+    snakemake(workflow_dir, *again)
+    assert [p.read_bytes() for p in tables] == before
+    assert run_voxpose("verify", "results", cwd=workflow_dir).returncode == 0
+
+
+def test_every_table_records_what_made_it(workflow_dir):
+    config = yaml.safe_load((workflow_dir / "config/config.yaml").read_text())
+    update_config(config, yaml.safe_load((workflow_dir / "config/quick.yaml").read_text()))
+    tables = sorted((workflow_dir / "results/tables").rglob("*.csv"))
+    assert len(tables) >= 7
+    for table in tables:
+        meta = json.loads(table.with_name(f"{table.stem}.meta.json").read_text())
+        assert meta["config_hash"] == config_hash(config), table
+        assert meta["git_commit"] == NOT_GIT  # the test's copy of the workflow is no checkout
 
 
 REFERENCE = Path(__file__).with_name("reference")

@@ -3,13 +3,13 @@
 One module for both: they differ only in the table and drawing functions of ``voxpose.evaluation.claims_figures``.
 """
 
-from voxpose.cli.common import list_of, parse_json, record
+from voxpose.cli.common import add_table_csv, list_of, parse_json, record, write_table_meta
 
 
 def add_arguments(p):
     p.add_argument("--runs", required=True, help="JSON list of runs (see voxpose/evaluation/claims_figures.py)")
     p.add_argument("--png", required=True)
-    p.add_argument("--csv", required=True)
+    add_table_csv(p)
 
 
 def _write(args, which: str) -> None:
@@ -24,6 +24,7 @@ def _write(args, which: str) -> None:
     with atomic_path(args.csv) as tmp:
         table.to_csv(tmp, index=False)
     figures.save(draw(table), args.png, "png")
+    write_table_meta(args)
 
 
 def run_cameras(args):

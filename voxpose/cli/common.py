@@ -10,12 +10,16 @@ import argparse
 import json
 import logging
 import math
+import os
 from pathlib import Path
 
 from voxpose.config_schema import validate
 from voxpose.errors import VoxposeError
 
 log = logging.getLogger("voxpose")
+
+# the workflow (workflow/rules/common.smk) puts its config hash here for the table commands
+CONFIG_HASH_VARIABLE = "VOXPOSE_CONFIG_HASH"
 
 
 def parse_json(text: str, what: str, schema: dict | None = None):
@@ -125,6 +129,19 @@ def check_suffix(path, option: str, *suffixes: str) -> Path:
 
 def add_output(p):
     p.add_argument("-o", "--output", required=True, help="output file")
+
+
+def add_table_csv(p):
+    """``--csv`` of a table and ``--config-hash``: the table's provenance goes beside it (``voxpose.provenance``)."""
+    p.add_argument("--csv", required=True, help="the table (CSV); its provenance is written beside it, NAME.meta.json")
+    p.add_argument("--config-hash", default=os.environ.get(CONFIG_HASH_VARIABLE),
+                   help=f"hash of the config that made the table (default: ${CONFIG_HASH_VARIABLE}, the workflow's)")
+
+
+def write_table_meta(args) -> None:
+    from voxpose.provenance import write_meta
+
+    write_meta(args.csv, args.config_hash)
 
 
 def voxel_meta(rig, rig_path, cfg, source: str) -> dict:

@@ -1,5 +1,7 @@
 """``voxpose experiment-table``: one experiment's results, one row per (test set, method), as CSV and Markdown."""
 
+from voxpose.cli.common import add_table_csv, write_table_meta
+
 NAME = "experiment-table"
 HELP = "an experiment's errors per test set and method (CSV + Markdown)"
 
@@ -10,7 +12,7 @@ def add_arguments(p):
         "--test-set", nargs=3, action="append", required=True, metavar=("SET", "MPPCA", "KMEANS"),
         help="a test set's name and the summary.json of its MPPCA and K-means runs (repeatable)",
     )  # fmt: skip
-    p.add_argument("--csv", required=True)
+    add_table_csv(p)
     p.add_argument("--md", required=True)
 
 
@@ -24,3 +26,4 @@ def run(args):
     sets = {name: (read_summary(mppca), read_summary(kmeans)) for name, mppca, kmeans in args.test_set}
     write_table(experiment_table(sets), args.csv, args.md,
                 f"Experiment {args.name}: RMS error (degrees) and joint position error (mm) per test set")  # fmt: skip
+    write_table_meta(args)

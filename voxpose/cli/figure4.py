@@ -1,6 +1,6 @@
 """``voxpose figure4``: Figure 4 (the cross-validation sweeps of Section 6) from the runs' summaries."""
 
-from voxpose.cli.common import list_of, parse_json, row
+from voxpose.cli.common import add_table_csv, list_of, parse_json, row, write_table_meta
 
 NAME = "figure4"
 HELP = "Figure 4 from the cross-validation sweep summaries"
@@ -10,7 +10,7 @@ def add_arguments(p):
     p.add_argument("--runs", required=True, help="JSON list of [sweep, value, summary.json]")
     p.add_argument("--png", required=True)
     p.add_argument("--pdf", required=True)
-    p.add_argument("--csv", required=True)
+    add_table_csv(p)
 
 
 def run(args):
@@ -24,3 +24,4 @@ def run(args):
     fig = figures.figure4(table)
     figures.save(fig, args.png, "png")
     figures.save(fig, args.pdf, "pdf")
+    write_table_meta(args)

@@ -1,7 +1,7 @@
 """``voxpose generalisation-table``: the subject-held-out results, one row per (held-out group, method), as CSV,
 Markdown and a figure."""
 
-from voxpose.cli.common import list_of, parse_json, row
+from voxpose.cli.common import add_table_csv, list_of, parse_json, row, write_table_meta
 
 NAME = "generalisation-table"
 HELP = "errors per held-out group and method (CSV + Markdown + figure)"
@@ -9,7 +9,7 @@ HELP = "errors per held-out group and method (CSV + Markdown + figure)"
 
 def add_arguments(p):
     p.add_argument("--runs", required=True, help="JSON list of [group, MPPCA summary.json, K-means summary.json]")
-    p.add_argument("--csv", required=True)
+    add_table_csv(p)
     p.add_argument("--md", required=True)
     p.add_argument("--png", required=True)
 
@@ -24,3 +24,4 @@ def run(args):
     write_table(df, args.csv, args.md, "Generalisation: each group held out in turn, RMS error (degrees) and "
                 "joint position error (mm) on the held-out group")  # fmt: skip
     generalisation_figure(df, args.png)
+    write_table_meta(args)

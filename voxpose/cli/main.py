@@ -40,6 +40,7 @@ from voxpose.cli import (
     silhouette_features,
     table1,
     table2,
+    verify,
     voxelize,
     voxelize_degraded,
 )
@@ -83,7 +84,7 @@ SUBCOMMANDS = dict(
     map(_of, (generate, derive, motion, rig, voxelize, carve, describe, fit_features, features, regress, evaluate,
               experiment_table, generalisation_table, table1, table2, figure4, joint_errors, error_over_time, gallery,
               voxelize_degraded, silhouette_contexts, fit_silhouette_features, silhouette_features, export_model,
-              predict, render, data_fetch, check_config))
+              predict, render, data_fetch, check_config, verify))
 ) | {  # fmt: skip
     "camera-figure": Subcommand("error against camera rig: transferred, retrained, A&T", claims_figure.add_arguments,
                                 claims_figure.run_cameras, claims_figure.__name__),
@@ -125,7 +126,7 @@ def main(argv=None) -> int:
             target = getattr(args, option, None)
             if isinstance(target, str):  # an output: before any work, a folder or a file in the way is a mistake
                 check_target(target)
-        run(args)
+        status = run(args)  # None: success; a check (``verify``) may return 1 for what it found
     except VoxposeError as err:
         root = logging.getLogger()
         for handler in [h for h in root.handlers if type(h) is logging.StreamHandler]:
@@ -134,7 +135,7 @@ def main(argv=None) -> int:
         log.error("error: %s", err)
         print(f"voxpose: error: {err}", file=sys.stderr)
         return 2
-    return 0
+    return status or 0
 
 
 if __name__ == "__main__":

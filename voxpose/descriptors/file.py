@@ -5,7 +5,6 @@ import numpy as np
 
 from voxpose.io.atomic import atomic_path
 from voxpose.io.hdf5 import (
-    check_layout,
     new_file,
     open_layout,
     read_arrays,
@@ -31,7 +30,6 @@ def write_descriptors(path, descriptors: list, basis_ijk: list, meta: dict) -> N
 def read_descriptors(path):
     """-> (list of (B_f, bins) float64 arrays, list of (B_f, 3) int arrays, meta)."""
     with open_layout(path, "descriptors") as f:
-        check_layout(f, path, "descriptors")
         desc = [d.astype(np.float64) for d in read_ragged(f, "descriptors")]
         return desc, read_ragged(f, "basis_ijk"), read_meta(f)
 

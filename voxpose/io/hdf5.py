@@ -1,9 +1,11 @@
 """HDF5 files of voxpose: a layout name and version on every file, JSON metadata, and the generic layouts.
 
 Each stage's typed layout (motions, voxels, descriptors) lives with its data type and is built from these
-pieces; every writer goes through ``voxpose.io.atomic.atomic_path``.
+pieces; every writer goes through ``voxpose.io.atomic.atomic_path`` and ``new_file`` (which seals the file with
+its content checksum, ``voxpose.io.checksum``), every reader through ``open_layout`` (which verifies it).
 """
 
+import contextlib
 import json
 
 import h5py
@@ -12,6 +14,7 @@ import numpy as np
 from voxpose import __version__
 from voxpose.errors import VoxposeError
 from voxpose.io.atomic import atomic_path
+from voxpose.io.checksum import damage, seal
 
 LAYOUT_VERSION = 1
 
@@ -25,8 +28,8 @@ def read_meta(f) -> dict:
     return json.loads(f.attrs["meta"])
 
 
-def open_layout(path, what: str):
-    """Open an HDF5 file for reading, turning a missing or damaged file into a one-line error."""
+def open_file(path, what: str):
+    """Open an HDF5 file for reading, turning a missing or unreadable file into a one-line error."""
     try:
         return h5py.File(path, "r")
     except (OSError, FileNotFoundError) as err:
@@ -45,12 +48,44 @@ def check_layout(f, path, layout: str) -> None:
         )
 
 
-def new_file(tmp, layout: str):
-    f = h5py.File(tmp, "w")
-    f.attrs["layout"] = layout
-    f.attrs["version"] = LAYOUT_VERSION
-    f.attrs["voxpose_version"] = __version__
+def open_layout(path, layout: str, check=None):
+    """Open a voxpose file of layout ``layout`` for reading: its layout name and version, then ``check(attrs)``
+    (a format version a reader checks before anything else), then its content checksum. A file that fails any
+    of them is a one-line error naming it."""
+    f = open_file(path, layout)
+    try:
+        check_layout(f, path, layout)
+        if check is not None:
+            check(f.attrs)
+        reason = damage(f)
+        if reason is not None:
+            raise VoxposeError(f"{path}: damaged {layout} file: {reason}; `voxpose verify --remove` deletes it, "
+                               "and the next snakemake run makes it again")  # fmt: skip
+    except BaseException:
+        f.close()
+        raise
     return f
+
+
+def file_damage(path) -> str | None:
+    """Why the voxpose HDF5 file at ``path`` cannot be trusted (a short reason), or None (``voxpose verify``)."""
+    try:
+        with h5py.File(path, "r") as f:
+            return damage(f)
+    except OSError as err:
+        return f"not a readable HDF5 file ({str(err).splitlines()[0]})"
+
+
+@contextlib.contextmanager
+def new_file(tmp, layout: str):
+    """A new voxpose file of layout ``layout`` at ``tmp``; sealed with its content checksum when the block ends
+    without an error (the checksum is the last thing written)."""
+    with h5py.File(tmp, "w") as f:
+        f.attrs["layout"] = layout
+        f.attrs["version"] = LAYOUT_VERSION
+        f.attrs["voxpose_version"] = __version__
+        yield f
+        seal(f)
 
 
 # --- ragged per-frame arrays: rows of all frames concatenated, frame f = rows[offsets[f]:offsets[f+1]] ------
@@ -84,7 +119,6 @@ def write_arrays(path, layout: str, arrays: dict, meta: dict) -> None:
 def read_arrays(path, layout: str):
     """-> (dict of arrays, meta) of a file written by ``write_arrays`` with the same layout name."""
     with open_layout(path, layout) as f:
-        check_layout(f, path, layout)
         return {key: f[key][()] for key in f}, read_meta(f)
 
 
@@ -111,10 +145,7 @@ def read_groups(path, layout: str, check=None):
     ``check(attrs)`` runs on the file attributes before anything else is read. A missing piece (a
     damaged or hand-edited file) is a one-line error naming the file.
     """
-    with open_layout(path, layout) as f:
-        check_layout(f, path, layout)
-        if check is not None:
-            check(f.attrs)
+    with open_layout(path, layout, check) as f:
         try:
             groups = {name: ({k: g[k][()] for k in g}, read_meta(g)) for name, g in f.items()}
             return groups, read_meta(f)
@@ -135,6 +166,5 @@ def write_per_motion(path, layout: str, motions: dict, meta: dict) -> None:
 def read_per_motion(path, layout: str):
     """-> ({motion: {key: array}}, meta) of a file written by ``write_per_motion``."""
     with open_layout(path, layout) as f:
-        check_layout(f, path, layout)
         motions = {name: {k: g[k][()] for k in g} for name, g in f["motions"].items()}
         return motions, read_meta(f)

@@ -7,7 +7,7 @@ import numpy as np
 
 from voxpose.errors import VoxposeError
 from voxpose.io.atomic import atomic_path
-from voxpose.io.hdf5 import check_layout, new_file, open_layout, read_meta, write_meta
+from voxpose.io.hdf5 import new_file, open_layout, read_meta, write_meta
 
 
 def kind_of(motion: str) -> str:
@@ -67,7 +67,6 @@ def write_motion(path, motion: MotionData) -> None:
 def read_motion(path) -> MotionData:
     """A motion file; one without frames (no stage can use it) is refused naming the file."""
     with open_layout(path, "motion") as f:
-        check_layout(f, path, "motion")
         meta = read_meta(f)
         if f["positions"].shape[0] < 1:
             raise VoxposeError(f"{path}: the motion file has no frames")

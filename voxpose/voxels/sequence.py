@@ -5,7 +5,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from voxpose.io.atomic import atomic_path
-from voxpose.io.hdf5 import check_layout, new_file, open_layout, read_meta, write_meta
+from voxpose.io.hdf5 import new_file, open_layout, read_meta, write_meta
 
 
 @dataclass
@@ -88,7 +88,6 @@ def write_voxels(path, seq, meta: dict, angles=None) -> None:
 def read_voxels(path):
     """-> (VoxelSequence, meta, angles or None)."""
     with open_layout(path, "voxels") as f:
-        check_layout(f, path, "voxels")
         meta = read_meta(f)
         arrays = {key: f[key][()] for key in _VOXEL_ARRAYS}
         angles = f["angles"][()] if "angles" in f else None

@@ -3,6 +3,7 @@
 
 import json
 import math
+import os
 import shlex
 import sys
 
@@ -12,6 +13,7 @@ from voxpose.config_schema import load_yaml
 from voxpose.errors import VoxposeError
 from voxpose.import_graph import code_hash
 from voxpose.io.bvh import read_duration
+from voxpose.provenance import config_hash
 
 
 def _fail(err):
@@ -67,6 +69,15 @@ try:
         raise VoxposeError(f"config key claims.experiment: no experiment named {config['claims']['experiment']!r}")
 except VoxposeError as err:
     _fail(err)
+
+# The config of this run, recorded beside every table it makes (voxpose.provenance): the table commands read it from
+# the environment, not from a param, so that a table is remade when its inputs change, not whenever any config key
+# does; `envvars` passes it on to cluster jobs.
+os.environ["VOXPOSE_CONFIG_HASH"] = config_hash(config)
+
+
+envvars:
+    "VOXPOSE_CONFIG_HASH",
 
 def held_out(group):
     """The internal experiment that holds out generalisation group ``group`` (a name no config experiment has)."""
@@ -175,7 +186,7 @@ def by_input(base, per_input_mb=0):
 
 def code(subcommand):
     """Content hash of the import closure of the module that defines ``voxpose <subcommand>``, the command the
-    rule runs (Snakemake does not see edits to the installed package): editing any module the command reaches,
+    rule runs (Snakemake does not see edits to the installed package); editing any module the command reaches,
     directly or not, reruns the rule and its dependants, and nothing else (voxpose.import_graph)."""
     return code_hash(SUBCOMMANDS[subcommand].module)
 

@@ -1,7 +1,7 @@
 # 3D shape contexts at the basis voxels over the surface voxels (Section 4), one cached file per parameter set.
 
 
-rule describe:
+rule describe:  # lint: no conda/container, see Snakefile
     input:
         "results/voxels/{rig}/{motion}.h5",
     output:

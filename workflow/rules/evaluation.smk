@@ -2,7 +2,7 @@
 # per-experiment tables and the subject-held-out (generalisation) table.
 
 
-rule table1:
+rule table1:  # lint: no conda/container, see Snakefile
     input:
         ours=run_file("table1", MPPCA, "summary.json"),
         kmeans=run_file("table1", KMEANS, "summary.json"),
@@ -10,6 +10,8 @@ rule table1:
         at_all=run_file("table1", AT_ALL, "summary.json", desc=CTX),
     output:
         csv=report("results/tables/table1.csv", caption="../report/table1.rst", category="Tables"),
+        meta=report("results/tables/table1.meta.json", caption="../report/provenance.rst",
+                    category="Provenance"),  # fmt: skip
         md="results/tables/table1.md",
     params:
         code=code("table1"),
@@ -25,11 +27,13 @@ rule table1:
         " --csv {output.csv} --md {output.md} --log {log}"
 
 
-rule table2:
+rule table2:  # lint: no conda/container, see Snakefile
     input:
         summary=run_file("table2", MPPCA, "summary.json"),
     output:
         csv=report("results/tables/table2.csv", caption="../report/table2.rst", category="Tables"),
+        meta=report("results/tables/table2.meta.json", caption="../report/provenance.rst",
+                    category="Provenance"),  # fmt: skip
         md="results/tables/table2.md",
     params:
         code=code("table2"),
@@ -44,12 +48,14 @@ rule table2:
         "voxpose table2 --summary {input.summary} --csv {output.csv} --md {output.md} --log {log}"
 
 
-rule experiment_table:
+rule experiment_table:  # lint: no conda/container, see Snakefile
     input:
         lambda w: [f"{test_dir(w.exp, DESC, feat, s)}/summary.json" for s in TESTS[w.exp] for feat in (MPPCA, KMEANS)],
     output:
         csv=report("results/tables/experiments/{exp}.csv", caption="../report/experiment_table.rst",
                    category="Experiments", subcategory="{exp}"),  # fmt: skip
+        meta=report("results/tables/experiments/{exp}.meta.json", caption="../report/provenance.rst",
+                    category="Provenance", subcategory="{exp}"),  # fmt: skip
         md="results/tables/experiments/{exp}.md",
     params:
         sets=lambda w: " ".join(
@@ -68,12 +74,14 @@ rule experiment_table:
         "voxpose experiment-table --name {wildcards.exp} {params.sets} --csv {output.csv} --md {output.md} --log {log}"
 
 
-rule generalisation_table:
+rule generalisation_table:  # lint: no conda/container, see Snakefile
     input:
         lambda w: [f"{test_dir(held_out(g), DESC, feat)}/summary.json" for g in HELD_OUT for feat in (MPPCA, KMEANS)],
     output:
         csv=report("results/tables/generalisation.csv", caption="../report/generalisation_table.rst",
                    category="Generalisation"),  # fmt: skip
+        meta=report("results/tables/generalisation.meta.json", caption="../report/provenance.rst",
+                    category="Provenance"),  # fmt: skip
         md="results/tables/generalisation.md",
         png=report("results/figures/generalisation.png", caption="../report/generalisation.rst",
                    category="Generalisation"),  # fmt: skip

@@ -3,7 +3,7 @@
 # {train} and {set} are motion-set tags (common.smk): experiments with the same training motions share one fit.
 
 
-rule fit_features:
+rule fit_features:  # lint: no conda/container, see Snakefile
     input:
         set_descriptors("train"),
     output:
@@ -26,7 +26,7 @@ rule fit_features:
         " -o {output} --log {log} --threads {threads} {input}"
 
 
-rule features:
+rule features:  # lint: no conda/container, see Snakefile
     input:
         model="results/features/{train}/{rig}/{desc}/{feat}/model.h5",
         descriptors=set_descriptors("set"),

@@ -1,13 +1,15 @@
 # Figure 4 (cross-validation sweeps), a Figure 5-style gallery, per-joint errors and errors over time.
 
 
-rule figure4:
+rule figure4:  # lint: no conda/container, see Snakefile
     input:
         [f"{d}/summary.json" for _, _, d in figure4_runs()],
     output:
         png=report("results/figures/figure4.png", caption="../report/figure4.rst", category="Figures"),
         pdf="results/figures/figure4.pdf",
         csv=report("results/tables/figure4.csv", caption="../report/figure4_table.rst", category="Tables"),
+        meta=report("results/tables/figure4.meta.json", caption="../report/provenance.rst",
+                    category="Provenance"),  # fmt: skip
     params:
         runs=arg([[label, value, f"{d}/summary.json"] for label, value, d in figure4_runs()]),
         code=code("figure4"),
@@ -22,7 +24,7 @@ rule figure4:
         "voxpose figure4 --runs {params.runs} --png {output.png} --pdf {output.pdf} --csv {output.csv} --log {log}"
 
 
-rule gallery:
+rule gallery:  # lint: no conda/container, see Snakefile
     input:
         predictions=run_file("table2", MPPCA, "predictions.h5"),
         voxels=lambda w: expand("results/voxels/{rig}/{motion}.h5", rig=RIG, motion=EXPERIMENTS["table2"]["test"]),
@@ -40,7 +42,7 @@ rule gallery:
         "voxpose gallery {input.predictions} -o {output} --log {log} {input.voxels}"
 
 
-rule joint_errors:
+rule joint_errors:  # lint: no conda/container, see Snakefile
     input:
         table1=run_file("table1", MPPCA, "summary.json"),
         table2=run_file("table2", MPPCA, "summary.json"),
@@ -59,7 +61,7 @@ rule joint_errors:
         "voxpose joint-errors --summary table1={input.table1} --summary table2={input.table2} -o {output} --log {log}"
 
 
-rule error_over_time:
+rule error_over_time:  # lint: no conda/container, see Snakefile
     input:
         table1=run_file("table1", MPPCA, "predictions.h5"),
         table2=run_file("table2", MPPCA, "predictions.h5"),

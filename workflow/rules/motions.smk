@@ -1,7 +1,7 @@
 # Motion capture in: BVH files (generated, derived or the user's) -> canonical poses per motion (Section 2).
 
 
-rule generate_bvh:
+rule generate_bvh:  # lint: no conda/container, see Snakefile
     output:
         "results/bvh/generated/{motion}.bvh",
     params:
@@ -20,7 +20,7 @@ rule generate_bvh:
         " --seed {params.seed} -o {output} --log {log}"
 
 
-rule derive_bvh:
+rule derive_bvh:  # lint: no conda/container, see Snakefile
     input:
         lambda w: SOURCE_BVH[DERIVED[w.motion][1]],
     output:
@@ -41,7 +41,7 @@ rule derive_bvh:
         "voxpose derive --kind {params.kind} --params {params.cfg} --seed {params.seed} {input} -o {output} --log {log}"
 
 
-rule motion:
+rule motion:  # lint: no conda/container, see Snakefile
     input:
         bvh_path,
     output:

@@ -2,7 +2,7 @@
 # set evaluated on its own: predictions and Eq. 6 errors per frame.
 
 
-rule regress:
+rule regress:  # lint: no conda/container, see Snakefile
     input:
         features="results/features/{train}/{rig}/{desc}/{feat}/sets/{train}.h5",
         motions=set_motions("train"),
@@ -27,7 +27,7 @@ rule regress:
         " --threads {threads} {input.motions}"
 
 
-rule evaluate:
+rule evaluate:  # lint: no conda/container, see Snakefile
     input:
         features="results/features/{train}/{rig}/{desc}/{feat}/sets/{set}.h5",
         regressor="results/runs/{train}/{rig}/{desc}/{feat}/regressor.h5",

@@ -1,7 +1,7 @@
 # Body model -> silhouettes from the calibrated rig -> carved voxels, surface and basis voxels (Sections 4, 6).
 
 
-rule rig:
+rule rig:  # lint: no conda/container, see Snakefile
     input:
         lambda w: [RIG_SECTIONS[w.rig]["file"]] if RIG_SECTIONS[w.rig]["file"] else [],
     output:
@@ -20,7 +20,7 @@ rule rig:
         "voxpose rig --params {params.cfg} -o {output} --log {log}"
 
 
-rule voxelize:
+rule voxelize:  # lint: no conda/container, see Snakefile
     input:
         motion="results/motions/{motion}.h5",
         rig="results/rigs/{rig}.json",
