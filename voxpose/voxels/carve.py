@@ -20,6 +20,11 @@ least ``min_views`` cameras is kept whole, any other cell is split into 8; singl
 their centres. The windows are conservative, so the result is exactly that of testing every voxel of the
 box (``tests/voxels/test_carve.py`` checks it); only the work shrinks.
 
+Lens distortion. A rig with distorted cameras is carved through its pinhole twin (``voxpose.voxels.lens``):
+each frame's silhouettes are looked up on the twin's canvas and carved as above with the twin's straight-line
+projections, so a voxel centre is tested at the real pixel nearest to its distorted projection up to the
+lookup's half pixel. An undistorted rig is carved exactly as before.
+
 An empty hull (silhouettes that do not intersect) gives an empty (0, 3) array, which the caller reports
 per frame; ``voxels.voxelize`` raises ``EmptyHullError`` when no frame has a hull to measure h_sub on.
 """
@@ -31,6 +36,7 @@ import numpy as np
 
 from voxpose.errors import VoxposeError
 from voxpose.voxels.cameras import Rig
+from voxpose.voxels.lens import pinhole_twin
 
 _MAX_SUBSETS = 1000
 _COARSE_CELLS = 4  # the coarsest octree level has about this many cells along the box's longest side
@@ -58,6 +64,8 @@ def capture_bounds(rig: Rig, min_views: int | None = None) -> np.ndarray:
     region (parallel views, ``min_views=1``) is an error asking for explicit ``bounds``.
     """
     k = len(rig) if min_views is None else int(min_views)
+    if rig.distorted:
+        rig = pinhole_twin(rig).rig  # the twin's frusta hold every ray the real images see
     key = (tuple((c.P.tobytes(), c.width, c.height) for c in rig.cameras), k)
     if key in _capture_cache:
         return _capture_cache[key].copy()
@@ -121,6 +129,9 @@ class Carver:
         if box.shape != (2, 3) or not np.isfinite(box).all() or (box[1] < box[0]).any():
             raise VoxposeError("carve: bounds must be finite [[xmin, ymin, zmin], [xmax, ymax, zmax]]")
         self.rig = rig
+        self._twin = pinhole_twin(rig) if rig.distorted else None
+        if self._twin is not None:
+            rig = self._twin.rig
         self.l_res = float(l_res)
         self.min_views = int(min_views)
         self.lo = np.ceil(box[0] / self.l_res - 0.5).astype(np.int64)
@@ -196,6 +207,8 @@ class Carver:
     def __call__(self, silhouettes) -> np.ndarray:
         """Occupied voxels (N, 3) int32 of one frame's silhouettes (C, H, W) bool."""
         sil = _check_silhouettes(silhouettes, self.rig)
+        if self._twin is not None:
+            sil = self._twin.to_twin(sil)
         tables = _summed_areas(sil)
         if len(self._coarse) == 0 or tables is None:
             return np.zeros((0, 3), dtype=np.int32)

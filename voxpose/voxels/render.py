@@ -13,6 +13,9 @@ bounding box is ``m +- sqrt(diag(E))``; only the pixels of that box are tested, 
 form. A pixel is in a silhouette when its centre (integer coordinates, ``voxpose.voxels.cameras``) lies inside
 the outline of at least one ellipsoid.
 
+A rig with lens distortion is rendered on its pinhole twin and looked up into the real images
+(``voxpose.voxels.lens``): outlines are then exact to the lookup's half pixel.
+
 An ellipsoid that contains a camera centre or reaches behind a camera's image plane has no bounded
 outline: that is a ``VoxposeError`` naming the segment and the camera (move the rig further away).
 """
@@ -22,6 +25,7 @@ import numpy as np
 from voxpose.errors import VoxposeError
 from voxpose.voxels.body import Ellipsoids
 from voxpose.voxels.cameras import Rig
+from voxpose.voxels.lens import pinhole_twin
 
 
 def image_ellipses(ellipsoids: Ellipsoids, rig: Rig):
@@ -60,6 +64,9 @@ def image_ellipses(ellipsoids: Ellipsoids, rig: Rig):
 
 def render_silhouettes(ellipsoids: Ellipsoids, rig: Rig) -> np.ndarray:
     """Silhouettes (C, H, W) bool of one frame's body model (``Ellipsoids.frame(f)``) in every camera."""
+    if rig.distorted:
+        twin = pinhole_twin(rig)
+        return twin.from_twin(render_silhouettes(ellipsoids, twin.rig), (len(rig),) + rig.image_size)
     centres, shapes = image_ellipses(ellipsoids, rig)
     height, width = rig.image_size
     out = np.zeros((len(rig), height, width), dtype=bool)

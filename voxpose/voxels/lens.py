@@ -1,0 +1,159 @@
+"""Lens distortion (OpenCV's model) and the pinhole twin through which distorted rigs are carved and rendered.
+
+Model (OpenCV ``projectPoints``): a camera-frame point ``(X, Y, Z)`` has normalised coordinates
+``x = X / Z``, ``y = Y / Z``; with ``r^2 = x^2 + y^2`` and coefficients ``(k1, k2, p1, p2, k3)`` it is seen at
+
+    x' = x (1 + k1 r^2 + k2 r^4 + k3 r^6) + 2 p1 x y + p2 (r^2 + 2 x^2)
+    y' = y (1 + k1 r^2 + k2 r^4 + k3 r^6) + p1 (r^2 + 2 y^2) + 2 p2 x y
+
+and then at pixel ``K (x', y', 1)``. A calibration with 2, 3 or 4 coefficients gives the leading ones; the
+rest are 0. ``undistort`` inverts the map by OpenCV's fixed-point iteration.
+
+Pinhole twin. Carving (``voxels.carve``, exact only for straight-line projections) and the analytic silhouettes
+of the body model (``voxels.render``, conics) need pinhole cameras. A distorted rig is therefore handled
+through its twin: the same K, R and t without distortion, on a canvas enlarged by a margin so that it holds
+every ray the real image sees (the undistorted image border). Each twin pixel centre is distorted to the real
+image and takes the nearest real pixel (``to_twin``); each real pixel centre is undistorted to the twin and
+takes the nearest twin pixel (``from_twin``). The lookups move a point by at most half a pixel of the twin
+(about half a real pixel), the resolution of the masks themselves. Twin pixels whose rays the real image does
+not see (outside it, or beyond 1.05 times the largest undistorted radius of its border, where the polynomial
+may fold back) are background.
+"""
+
+import numpy as np
+
+from voxpose.errors import VoxposeError
+
+N_COEFFICIENTS = 5
+_UNDISTORT_ITERATIONS = 40
+_FOLD_MARGIN = 1.05
+_twin_cache: dict = {}
+
+
+def coefficients(values) -> np.ndarray:
+    """(5,) ``(k1, k2, p1, p2, k3)`` from 2 to 5 given coefficients (the missing ones 0)."""
+    array = np.asarray(values, dtype=float).reshape(-1)
+    if not 2 <= array.size <= N_COEFFICIENTS:
+        raise VoxposeError(f"dist must hold 2 to 5 coefficients (k1 k2 [p1 p2 [k3]]), got {array.size}")
+    if not np.isfinite(array).all():
+        raise VoxposeError("dist has non-finite values")
+    return np.concatenate([array, np.zeros(N_COEFFICIENTS - array.size)])
+
+
+def distort(x, y, dist):
+    """Distorted normalised coordinates (x', y') of normalised coordinates (x, y) (module docstring)."""
+    k1, k2, p1, p2, k3 = dist
+    r2 = x * x + y * y
+    radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3))
+    return (x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x),
+            y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y)  # fmt: skip
+
+
+def undistort(xd, yd, dist):
+    """Normalised coordinates whose distortion is (xd, yd): OpenCV's fixed-point iteration."""
+    k1, k2, p1, p2, k3 = dist
+    x, y = np.array(xd, dtype=float), np.array(yd, dtype=float)
+    for _ in range(_UNDISTORT_ITERATIONS) if np.any(dist) else ():
+        r2 = x * x + y * y
+        radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3))
+        x, y = ((xd - 2 * p1 * x * y - p2 * (r2 + 2 * x * x)) / radial,
+                (yd - p1 * (r2 + 2 * y * y) - 2 * p2 * x * y) / radial)  # fmt: skip
+    return x, y
+
+
+def _normalised(k, u, v):
+    """Normalised coordinates of pixels (u, v) of intrinsics ``k`` (upper triangular)."""
+    y = (v - k[1, 2]) / k[1, 1]
+    return (u - k[0, 2] - k[0, 1] * y) / k[0, 0], y
+
+
+def _pixels(k, x, y):
+    return k[0, 0] * x + k[0, 1] * y + k[0, 2], k[1, 1] * y + k[1, 2]
+
+
+def _border(width, height):
+    """Pixel coordinates of the image border (the pixel squares' outer edges), one point per pixel."""
+    us = np.arange(width + 1) - 0.5
+    vs = np.arange(height + 1) - 0.5
+    u = np.concatenate([us, us, np.full_like(vs, -0.5), np.full_like(vs, width - 0.5)])
+    v = np.concatenate([np.full_like(us, -0.5), np.full_like(us, height - 0.5), vs, vs])
+    return u, v
+
+
+class PinholeTwin:
+    """The pinhole twin of a rig (module docstring): ``rig`` (undistorted, enlarged canvas) and the lookups."""
+
+    def __init__(self, rig):
+        from voxpose.voxels.cameras import Camera, Rig
+
+        height, width = rig.image_size
+        bu, bv = _border(width, height)
+        undist, radii = [], []
+        for cam in rig.cameras:
+            xd, yd = _normalised(cam.K, bu, bv)
+            x, y = undistort(xd, yd, cam.dist)
+            back = distort(x, y, cam.dist)
+            miss = np.nanmax(np.hypot(back[0] - xd, back[1] - yd)) * cam.K[0, 0] if np.isfinite(x + y).all() else np.inf
+            if not miss < 1e-3:
+                raise VoxposeError(f"camera {cam.name}: the distortion {cam.dist.tolist()} cannot be inverted at the "
+                                   "image border (the polynomial folds back inside the image)")  # fmt: skip
+            undist.append(_pixels(cam.K, x, y))
+            radii.append(np.sqrt(x * x + y * y).max() * _FOLD_MARGIN)
+        lo_u = min(u.min() for u, _ in undist)
+        hi_u = max(u.max() for u, _ in undist)
+        lo_v = min(v.min() for _, v in undist)
+        hi_v = max(v.max() for _, v in undist)
+        left, top = max(0, int(np.ceil(-0.5 - lo_u))), max(0, int(np.ceil(-0.5 - lo_v)))
+        right = max(0, int(np.ceil(hi_u - (width - 0.5))))
+        bottom = max(0, int(np.ceil(hi_v - (height - 0.5))))
+        self.offset = np.array([top, left])  # (row, column) of the real image's pixel (0, 0) on the twin canvas
+        self.size = (height + top + bottom, width + left + right)
+        cameras = []
+        for cam in rig.cameras:
+            k = cam.K.copy()
+            k[0, 2] += left
+            k[1, 2] += top
+            cameras.append(Camera(cam.name, k, cam.R, cam.t, self.size[1], self.size[0]))
+        self.rig = Rig(rig.name, cameras)
+        self._to_twin = np.stack([self._twin_lookup(cam, twin.K, r, width, height)
+                                  for cam, twin, r in zip(rig.cameras, cameras, radii, strict=True)])  # fmt: skip
+        self._from_twin = np.stack([self._real_lookup(cam, twin.K) for cam, twin in zip(rig.cameras, cameras,
+                                                                                         strict=True)])  # fmt: skip
+
+    def _twin_lookup(self, cam, twin_k, max_radius, width, height):
+        """Flat index into the real image of every twin pixel (-1: not seen by the real image)."""
+        rows, cols = np.indices(self.size, dtype=float)
+        x, y = _normalised(twin_k, cols, rows)
+        u, v = _pixels(cam.K, *distort(x, y, cam.dist))
+        col, row = np.floor(u + 0.5), np.floor(v + 0.5)
+        ok = (x * x + y * y <= max_radius**2) & (col >= 0) & (col < width) & (row >= 0) & (row < height)
+        return np.where(ok, row * width + col, -1).astype(np.int64).reshape(-1)
+
+    def _real_lookup(self, cam, twin_k):
+        """Flat index into the twin canvas of every real pixel."""
+        rows, cols = np.indices((cam.height, cam.width), dtype=float)
+        u, v = _pixels(twin_k, *undistort(*_normalised(cam.K, cols, rows), cam.dist))
+        col = np.clip(np.floor(u + 0.5), 0, self.size[1] - 1)
+        row = np.clip(np.floor(v + 0.5), 0, self.size[0] - 1)
+        return (row * self.size[1] + col).astype(np.int64).reshape(-1)
+
+    def to_twin(self, sil: np.ndarray) -> np.ndarray:
+        """Real silhouettes (C, H, W) bool -> twin silhouettes (C, H', W')."""
+        flat = sil.reshape(len(sil), -1)
+        index = self._to_twin
+        out = np.take_along_axis(flat, np.maximum(index, 0), axis=1) & (index >= 0)
+        return out.reshape((len(sil),) + self.size)
+
+    def from_twin(self, sil: np.ndarray, shape) -> np.ndarray:
+        """Twin silhouettes (C, H', W') -> real silhouettes of ``shape`` (C, H, W)."""
+        flat = sil.reshape(len(sil), -1)
+        return np.take_along_axis(flat, self._from_twin, axis=1).reshape(shape)
+
+
+def pinhole_twin(rig) -> PinholeTwin:
+    """The (cached) pinhole twin of a rig with distortion."""
+    key = tuple((c.P.tobytes(), c.dist.tobytes(), c.width, c.height) for c in rig.cameras)
+    if key not in _twin_cache:
+        _twin_cache.clear()  # one rig at a time is the common case; keeps memory bounded
+        _twin_cache[key] = PinholeTwin(rig)
+    return _twin_cache[key]
