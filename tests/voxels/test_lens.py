@@ -100,8 +100,8 @@ def test_unit_and_up_axis_give_the_same_cameras_in_a_y_up_metric_world(tmp_path,
                     "-z": [[1, 0, 0], [0, 0, -1], [0, 1, 0]]}[up], dtype=float)  # fmt: skip
     assert np.allclose(rot @ axis, [0, 1, 0]) and np.isclose(np.linalg.det(rot), 1)
     path = tmp_path / "studio.json"
-    path.write_text(json.dumps({"unit": unit, "up": up, "floor": floor, "cameras": _file_cameras(rig, scale, rot,
-                                                                                                   floor)}))  # fmt: skip
+    cameras = _file_cameras(rig, scale, rot, floor)
+    path.write_text(json.dumps({"unit": unit, "up": up, "floor": floor, "cameras": cameras}))
     loaded = load_rig(path)
     points = np.random.default_rng(0).uniform([-0.8, 0, -0.8], [0.8, 2, 0.8], (50, 3))
     for a, b in zip(rig, loaded, strict=True):
@@ -110,8 +110,7 @@ def test_unit_and_up_axis_give_the_same_cameras_in_a_y_up_metric_world(tmp_path,
     world = np.eye(4)
     world[:3, :3] = rot
     world[1, 3] = -floor
-    path.write_text(json.dumps({"unit": unit, "world": world.tolist(), "cameras": _file_cameras(rig, scale, rot,
-                                                                                                  floor)}))  # fmt: skip
+    path.write_text(json.dumps({"unit": unit, "world": world.tolist(), "cameras": cameras}))
     for a, b in zip(rig, load_rig(path), strict=True):
         assert np.allclose(a.project(points), b.project(points), atol=1e-6)
 
