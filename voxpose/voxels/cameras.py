@@ -414,31 +414,36 @@ def load_rig(path) -> Rig:
     except (json.JSONDecodeError, yaml.YAMLError) as err:
         first_line = str(err).splitlines()[0]
         raise VoxposeError(f"{path}: not a valid rig file ({first_line})") from None
+    return rig_from_dict(data, str(path), path.stem)
+
+
+def rig_from_dict(data, label: str, default_name: str = "rig") -> Rig:
+    """The rig of a rig file's parsed contents; errors start with ``label`` (the file)."""
     if not isinstance(data, dict) or "cameras" not in data:
-        raise VoxposeError(f"{path}: missing key 'cameras' (a list with one object per camera)")
+        raise VoxposeError(f"{label}: missing key 'cameras' (a list with one object per camera)")
     try:
         alignment = world_alignment(data)
     except VoxposeError as err:
-        raise VoxposeError(f"{path}: {err}") from None
+        raise VoxposeError(f"{label}: {err}") from None
     entries = data["cameras"]
     if not isinstance(entries, list) or not entries:
-        raise VoxposeError(f"{path}: 'cameras' must be a non-empty list")
+        raise VoxposeError(f"{label}: 'cameras' must be a non-empty list")
     cameras = []
     for i, entry in enumerate(entries):
-        label = f"cameras[{i}]"
+        where = f"cameras[{i}]"
         if isinstance(entry, dict) and isinstance(entry.get("name"), str):
-            label += f" ({entry['name']})"
+            where += f" ({entry['name']})"
         try:
             cameras.append(_camera_from_dict(entry))
         except VoxposeError as err:
-            raise VoxposeError(f"{path}: {label}: {err}") from None
+            raise VoxposeError(f"{label}: {where}: {err}") from None
     if alignment is not None:
         cameras = [aligned(cam, *alignment) for cam in cameras]
-    name = data.get("name", path.stem)
+    name = data.get("name", default_name)
     try:
         return Rig(str(name), cameras)
     except VoxposeError as err:
-        raise VoxposeError(f"{path}: {err}") from None
+        raise VoxposeError(f"{label}: {err}") from None
 
 
 def rig_from_config(cfg: dict) -> Rig:
