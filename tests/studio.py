@@ -27,7 +27,7 @@ from voxpose.voxels.cameras import Camera, Rig, circular_rig, load_rig, save_rig
 from voxpose.voxels.degrade import posed_body
 from voxpose.voxels.render import render_silhouettes
 
-DIST = [-0.22, 0.04, 0.001, -0.0015, 0.0]
+DIST = [-1.5, 1.2, 0.002, -0.003, 0.0]  # a wide-angle lens: moves the body by about a voxel (h/30 at 4 m)
 Z_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])  # studio (Z up) -> voxpose world (Y up)
 FIRST_FRAME = 100
 NOISE = 3.0  # grey levels (8-bit) of Gaussian sensor noise

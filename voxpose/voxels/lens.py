@@ -7,17 +7,16 @@ Model (OpenCV ``projectPoints``): a camera-frame point ``(X, Y, Z)`` has normali
     y' = y (1 + k1 r^2 + k2 r^4 + k3 r^6) + p1 (r^2 + 2 y^2) + 2 p2 x y
 
 and then at pixel ``K (x', y', 1)``. A calibration with 2, 3 or 4 coefficients gives the leading ones; the
-rest are 0. ``undistort`` inverts the map by OpenCV's fixed-point iteration.
+rest are 0. ``undistort`` inverts the map by Newton's method.
 
 Pinhole twin. Carving (``voxels.carve``, exact only for straight-line projections) and the analytic silhouettes
 of the body model (``voxels.render``, conics) need pinhole cameras. A distorted rig is therefore handled
 through its twin: the same K, R and t without distortion, on a canvas enlarged by a margin so that it holds
 every ray the real image sees (the undistorted image border). Each twin pixel centre is distorted to the real
-image and takes the nearest real pixel (``to_twin``); each real pixel centre is undistorted to the twin and
-takes the nearest twin pixel (``from_twin``). The lookups move a point by at most half a pixel of the twin
-(about half a real pixel), the resolution of the masks themselves. Twin pixels whose rays the real image does
-not see (outside it, or beyond 1.05 times the largest undistorted radius of its border, where the polynomial
-may fold back) are background.
+image and takes the nearest real pixel (``to_twin``: the carving's coarse levels, made conservative in
+``voxels.carve``); each real pixel centre has its exact position on the twin (``undistorted``: the rendering
+tests it against the conics there). Points whose rays the real image does not see (outside it, or beyond 1.05
+times the largest undistorted radius of its border, where the polynomial may fold back) are background.
 """
 
 import numpy as np
@@ -25,7 +24,7 @@ import numpy as np
 from voxpose.errors import VoxposeError
 
 N_COEFFICIENTS = 5
-_UNDISTORT_ITERATIONS = 40
+_UNDISTORT_ITERATIONS = 20
 _FOLD_MARGIN = 1.05
 _twin_cache: dict = {}
 
@@ -50,14 +49,21 @@ def distort(x, y, dist):
 
 
 def undistort(xd, yd, dist):
-    """Normalised coordinates whose distortion is (xd, yd): OpenCV's fixed-point iteration."""
+    """Normalised coordinates whose distortion is (xd, yd): Newton's method from (xd, yd) (OpenCV's fixed-point
+    iteration diverges for strong wide-angle lenses)."""
     k1, k2, p1, p2, k3 = dist
     x, y = np.array(xd, dtype=float), np.array(yd, dtype=float)
     for _ in range(_UNDISTORT_ITERATIONS) if np.any(dist) else ():
         r2 = x * x + y * y
         radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3))
-        x, y = ((xd - 2 * p1 * x * y - p2 * (r2 + 2 * x * x)) / radial,
-                (yd - p1 * (r2 + 2 * y * y) - 2 * p2 * x * y) / radial)  # fmt: skip
+        slope = k1 + r2 * (2 * k2 + 3 * k3 * r2)  # d radial / d r^2
+        fx, fy = distort(x, y, dist)
+        fx, fy = fx - xd, fy - yd
+        a = radial + 2 * x * x * slope + 2 * p1 * y + 6 * p2 * x
+        b = 2 * x * y * slope + 2 * p1 * x + 2 * p2 * y
+        d = radial + 2 * y * y * slope + 6 * p1 * y + 2 * p2 * x
+        det = a * d - b * b
+        x, y = x - (d * fx - b * fy) / det, y - (a * fy - b * fx) / det
     return x, y
 
 
@@ -115,9 +121,11 @@ class PinholeTwin:
             k[1, 2] += top
             cameras.append(Camera(cam.name, k, cam.R, cam.t, self.size[1], self.size[0]))
         self.rig = Rig(rig.name, cameras)
+        self._cameras = [(twin.K, cam.dist, cam.K, r) for twin, cam, r in zip(cameras, rig.cameras, radii,
+                                                                               strict=True)]  # fmt: skip
         self._to_twin = np.stack([self._twin_lookup(cam, twin.K, r, width, height)
                                   for cam, twin, r in zip(rig.cameras, cameras, radii, strict=True)])  # fmt: skip
-        self._from_twin = np.stack([self._real_lookup(cam, twin.K) for cam, twin in zip(rig.cameras, cameras,
+        self.undistorted = np.stack([self._undistorted(cam, twin.K) for cam, twin in zip(rig.cameras, cameras,
                                                                                          strict=True)])  # fmt: skip
 
     def _twin_lookup(self, cam, twin_k, max_radius, width, height):
@@ -129,13 +137,20 @@ class PinholeTwin:
         ok = (x * x + y * y <= max_radius**2) & (col >= 0) & (col < width) & (row >= 0) & (row < height)
         return np.where(ok, row * width + col, -1).astype(np.int64).reshape(-1)
 
-    def _real_lookup(self, cam, twin_k):
-        """Flat index into the twin canvas of every real pixel."""
+    def _undistorted(self, cam, twin_k):
+        """(2, H, W) twin pixel coordinates (u, v) of every real pixel centre."""
         rows, cols = np.indices((cam.height, cam.width), dtype=float)
-        u, v = _pixels(twin_k, *undistort(*_normalised(cam.K, cols, rows), cam.dist))
-        col = np.clip(np.floor(u + 0.5), 0, self.size[1] - 1)
-        row = np.clip(np.floor(v + 0.5), 0, self.size[0] - 1)
-        return (row * self.size[1] + col).astype(np.int64).reshape(-1)
+        return np.stack(_pixels(twin_k, *undistort(*_normalised(cam.K, cols, rows), cam.dist)))
+
+    def distort_pixels(self, u, v):
+        """Real-image pixel coordinates of twin pixel coordinates (C, N) each (rows: cameras)."""
+        out_u, out_v = np.empty_like(u), np.empty_like(v)
+        for c, (twin, dist, k, max_radius) in enumerate(self._cameras):
+            x, y = _normalised(twin, u[c], v[c])
+            uu, vv = _pixels(k, *distort(x, y, dist))
+            seen = x * x + y * y <= max_radius**2  # beyond it the polynomial may fold back into the image
+            out_u[c], out_v[c] = np.where(seen, uu, np.nan), np.where(seen, vv, np.nan)
+        return out_u, out_v
 
     def to_twin(self, sil: np.ndarray) -> np.ndarray:
         """Real silhouettes (C, H, W) bool -> twin silhouettes (C, H', W')."""
@@ -144,10 +159,6 @@ class PinholeTwin:
         out = np.take_along_axis(flat, np.maximum(index, 0), axis=1) & (index >= 0)
         return out.reshape((len(sil),) + self.size)
 
-    def from_twin(self, sil: np.ndarray, shape) -> np.ndarray:
-        """Twin silhouettes (C, H', W') -> real silhouettes of ``shape`` (C, H, W)."""
-        flat = sil.reshape(len(sil), -1)
-        return np.take_along_axis(flat, self._from_twin, axis=1).reshape(shape)
 
 
 def pinhole_twin(rig) -> PinholeTwin:

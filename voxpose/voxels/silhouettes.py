@@ -64,7 +64,7 @@ def pattern_regex(pattern: str):
         if pattern.count(field) != 1:
             raise VoxposeError(f"--pattern {pattern!r}: needs {field} exactly once (e.g. '{DEFAULT_PATTERN}')")
     parts = re.split(r"(\{camera\}|\{frame\}|\*|\?)", pattern)
-    table = {"{camera}": r"(?P<camera>[^/]+?)", "{frame}": r"(?P<frame>\d+)", "*": r"[^/]*", "?": r"[^/]"}
+    table = {"{camera}": r"(?P<camera>[^/]+?)", "{frame}": r"(?P<frame>\d+)", "*": r"[^/]*?", "?": r"[^/]"}
     return re.compile("".join(table.get(part, re.escape(part)) for part in parts), re.IGNORECASE)
 
 
