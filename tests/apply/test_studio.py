@@ -42,7 +42,9 @@ def test_own_studio_recipe_matches_the_exact_rig_and_the_workflow(trained, tmp_p
         VOXELS["l_res_fraction"], "--n-basis", VOXELS["n_basis"], "-o", studio / "vox.h5")  # fmt: skip
     run("predict", d / "model.h5", "--rig", studio / "rig.json", "--silhouettes", studio / "sil", "-o",
         studio / "out.bvh")  # fmt: skip
-    assert (studio / "preview.png").stat().st_size > 0
+    run("render", studio / "out.h5", "--rig", studio / "rig.json", "--camera", "cam0", "--image",
+        studio / "frames" / "cam0" / "{frame}.png", "--every", 4, "-o", studio / "out.gif")  # fmt: skip
+    assert (studio / "preview.png").stat().st_size > 0 and (studio / "out.gif").stat().st_size > 0
 
     # the hull: the imported rig and segmented silhouettes against the exact rig and exact silhouettes
     exact_rig, rig = load_rig(studio / "truth" / "rig.json"), load_rig(studio / "rig.json")
