@@ -3,17 +3,21 @@ with Z up and lens distortion, noisy images, a lighting change, a shadow) throug
 ``rig import -> silhouettes -> carve -> predict``: the hull is the exact rig's, the angles the workflow's, and
 carving while ignoring the distortion is measurably worse."""
 
+import glob
+import shlex
+from pathlib import Path
+
 import numpy as np
 import pandas as pd
 import pytest
 
 from tests.apply.test_predict import TEST, VOXELS, run, trained  # noqa: F401 (the fixture)
 from tests.helpers import as_set
-from tests.studio import FIRST_FRAME, write_studio
+from tests.studio import FIRST_FRAME
+from tests.studio import main as studio_main
 from voxpose.evaluation import metrics
 from voxpose.io.hdf5 import read_per_motion
 from voxpose.motion import canon
-from voxpose.motion.data import read_motion
 from voxpose.voxels.cameras import load_rig
 from voxpose.voxels.carve import Carver
 from voxpose.voxels.sequence import read_voxels
@@ -27,24 +31,28 @@ def iou(a, b):
     return len(a & b) / len(a | b)
 
 
-def test_own_studio_recipe_matches_the_exact_rig_and_the_workflow(trained, tmp_path):  # noqa: F811
+def readme_recipe() -> list:
+    """The commands of the README's "Your own studio" block, continuation lines joined."""
+    text = (Path(__file__).parents[2] / "README.md").read_text()
+    block = text.split("## Your own studio", 1)[1].split("```bash\n", 1)[1].split("```", 1)[0]
+    commands = block.replace("\\\n", " ").splitlines()
+    return [shlex.split(line.split("  #")[0]) for line in commands if line.strip()]
+
+
+def test_own_studio_recipe_matches_the_exact_rig_and_the_workflow(trained, tmp_path, monkeypatch):  # noqa: F811
     d = trained
+    monkeypatch.chdir(tmp_path)
     studio = tmp_path / "studio"
-    write_studio(studio, load_rig(d / "rig.json"), read_motion(d / f"{TEST}.h5"))
-    calib = sorted((studio / "calib").glob("*.yaml"))
-    # the README's recipe ("Your own studio")
-    run("rig", "import", *calib, "--unit", "mm", "--up", "+z", "-o", studio / "rig0.json")
-    run("silhouettes", studio / "frames", "--background", studio / "background", "--rig", studio / "rig0.json",
-        "--preview", studio / "preview.png", "-o", studio / "sil")  # fmt: skip
-    run("rig", "import", *calib, "--unit", "mm", "--up", "+z", "--silhouettes", studio / "sil", "-o",
-        studio / "rig.json")  # fmt: skip
+    commands = readme_recipe()
+    assert commands[0][:3] == ["python", "-m", "tests.studio"] and all(c[0] == "voxpose" for c in commands[1:])
+    # the studio as the README writes it, with the motion the workflow predicted (walk_gen_01, not a new walk)
+    studio_main([*commands[0][3:], "--motion", str(d / f"{TEST}.h5")])
+    for command in commands[1:]:
+        args = [a for arg in command[1:] for a in (sorted(glob.glob(arg)) if "*" in arg else [arg])]
+        run(*[str(d / "model.h5") if a == "model.h5" else a for a in args])
     run("carve", "--rig", studio / "rig.json", "--silhouettes", studio / "sil", "--l-res-fraction",
         VOXELS["l_res_fraction"], "--n-basis", VOXELS["n_basis"], "-o", studio / "vox.h5")  # fmt: skip
-    run("predict", d / "model.h5", "--rig", studio / "rig.json", "--silhouettes", studio / "sil", "-o",
-        studio / "out.bvh")  # fmt: skip
-    run("render", studio / "out.h5", "--rig", studio / "rig.json", "--camera", "cam0", "--image",
-        studio / "frames" / "cam0" / "{frame}.png", "--every", 4, "-o", studio / "out.gif")  # fmt: skip
-    assert (studio / "preview.png").stat().st_size > 0 and (studio / "out.gif").stat().st_size > 0
+    assert (studio / "preview.png").stat().st_size > 0 and (studio / "walk.gif").stat().st_size > 0
 
     # the hull: the imported rig and segmented silhouettes against the exact rig and exact silhouettes
     exact_rig, rig = load_rig(studio / "truth" / "rig.json"), load_rig(studio / "rig.json")
@@ -66,7 +74,7 @@ def test_own_studio_recipe_matches_the_exact_rig_and_the_workflow(trained, tmp_p
     # by the paper's measure (Eq. 6). Frame by frame they differ more: with 40 basis voxels drawn at random from
     # the surface, a hull a few voxels different draws other basis voxels, and this tiny model follows them.
     workflow = read_per_motion(d / "predictions.h5", "predictions")[0][TEST]
-    table = pd.read_csv(studio / "out.csv")
+    table = pd.read_csv(studio / "walk.csv")
     assert table["frame"].tolist() == list(range(FIRST_FRAME, FIRST_FRAME + len(table)))
     angles = table[list(canon.ANGLE_NAMES)].to_numpy()
     ours, theirs = (metrics.full_body_error(workflow["true"], a) for a in (angles, workflow["pred_mvrvm"]))
