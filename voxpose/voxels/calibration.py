@@ -29,6 +29,7 @@ from scipy.linalg import rq
 from scipy.spatial.transform import Rotation
 
 from voxpose.errors import VoxposeError
+from voxpose.io.text import read_text
 
 KEYS = {
     "K": ("camera_matrix", "CameraMatrix", "cameraMatrix", "K", "M", "intrinsic"),
@@ -57,10 +58,7 @@ _OpenCVLoader.add_constructor("tag:yaml.org,2002:opencv-matrix", _opencv_matrix)
 def read_storage(path) -> dict:
     """The top-level map of an OpenCV FileStorage file (YAML or XML), matrices as nested lists."""
     path = Path(path)
-    try:
-        text = path.read_text()
-    except OSError as err:
-        raise VoxposeError(f"{path}: cannot read calibration file ({err.strerror})") from None
+    text = read_text(path, "calibration file")
     try:
         if path.suffix.lower() == ".xml" or text.lstrip().startswith("<"):
             return _xml_map(ET.fromstring(text))
@@ -166,10 +164,7 @@ def cameras_from_projections(path, size) -> list:
     if size is None:
         raise VoxposeError(f"{path}: projection matrices carry no image size; pass --size WxH")
     numbers = []
-    try:
-        lines = path.read_text().splitlines()
-    except OSError as err:
-        raise VoxposeError(f"{path}: cannot read projection matrices ({err.strerror})") from None
+    lines = read_text(path, "projection matrices").splitlines()
     for number, line in enumerate(lines, start=1):
         for word in line.split("#")[0].replace(",", " ").split():
             try:

@@ -69,6 +69,7 @@ import yaml
 
 from voxpose.errors import VoxposeError
 from voxpose.io.atomic import atomic_path
+from voxpose.io.text import read_text
 from voxpose.voxels import lens
 
 log = logging.getLogger(__name__)
@@ -405,10 +406,7 @@ def aligned(camera: Camera, scale: float, rot: np.ndarray, shift: np.ndarray) ->
 def load_rig(path) -> Rig:
     """Read a rig file (format in the module docstring); every error names the file, camera and key."""
     path = Path(path)
-    try:
-        text = path.read_text()
-    except OSError as err:
-        raise VoxposeError(f"{path}: cannot read rig file ({err.strerror})") from None
+    text = read_text(path, "rig file")
     try:
         data = yaml.safe_load(text) if path.suffix.lower() in (".yaml", ".yml") else json.loads(text)
     except (json.JSONDecodeError, yaml.YAMLError) as err:

@@ -1,0 +1,14 @@
+"""Reading a user's text file (rig, calibration): an unreadable file is one error naming it and what it is."""
+
+from pathlib import Path
+
+from voxpose.errors import VoxposeError
+
+
+def read_text(path, what: str) -> str:
+    """The text of ``path``; ``what`` names the kind of file in the error (e.g. "rig file")."""
+    try:
+        return Path(path).read_text()
+    except (OSError, UnicodeDecodeError) as err:
+        reason = getattr(err, "strerror", None) or str(err)
+        raise VoxposeError(f"{path}: cannot read {what} ({reason})") from None
