@@ -72,3 +72,11 @@ def test_png_per_frame_and_gif(one_arm_down, tmp_path):
     centre = (view.width - 1) / 2  # the virtual view from the front: the outstretched right arm on the left
     assert centre - columns.min() > 2 * (columns.max() - centre) > 0
     assert write_pictures(draw_frames(prediction, offsets, view), tmp_path / "a.gif", 30.0) == 1
+
+
+def test_mp4_with_the_video_extra(one_arm_down, tmp_path):
+    iio = pytest.importorskip("imageio.v3")
+    prediction, offsets = one_arm_down
+    view = orbit_camera([0.0, 1.0, 0.0], 2.0, azimuth=0.0, elevation=10.0, size_px=160)
+    assert write_pictures(draw_frames(prediction, offsets, view), tmp_path / "a.mp4", 30.0) == 1
+    assert iio.imread(tmp_path / "a.mp4", index=0).shape == (160, 160, 3)

@@ -53,6 +53,9 @@ def test_own_studio_recipe_matches_the_exact_rig_and_the_workflow(trained, tmp_p
     run("carve", "--rig", studio / "rig.json", "--silhouettes", studio / "sil", "--l-res-fraction",
         VOXELS["l_res_fraction"], "--n-basis", VOXELS["n_basis"], "-o", studio / "vox.h5")  # fmt: skip
     assert (studio / "preview.png").stat().st_size > 0 and (studio / "walk.gif").stat().st_size > 0
+    run("predict", d / "model.h5", "--voxels", studio / "vox.h5", "-o", studio / "from_voxels.bvh")
+    frames = pd.read_csv(studio / "from_voxels.csv")["frame"].tolist()  # the file names' numbers, not 0, 1, ...
+    assert frames == list(range(FIRST_FRAME, FIRST_FRAME + len(frames)))
 
     # the hull: the imported rig and segmented silhouettes against the exact rig and exact silhouettes
     exact_rig, rig = load_rig(studio / "truth" / "rig.json"), load_rig(studio / "rig.json")

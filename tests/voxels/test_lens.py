@@ -116,6 +116,8 @@ def test_unit_and_up_axis_give_the_same_cameras_in_a_y_up_metric_world(tmp_path,
 
 
 def test_a_rig_without_the_new_keys_loads_bit_for_bit(tmp_path):
+    import json
+
     from voxpose.voxels.cameras import load_rig, rig_json, save_rig
 
     rig = circular_rig()
@@ -124,6 +126,9 @@ def test_a_rig_without_the_new_keys_loads_bit_for_bit(tmp_path):
     assert not loaded.distorted and rig_json(loaded) == rig_json(rig)
     for a, b in zip(rig, loaded, strict=True):
         assert a.K.tobytes() == b.K.tobytes() and a.R.tobytes() == b.R.tobytes() and a.t.tobytes() == b.t.tobytes()
+    data = json.loads(rig_json(rig)) | {"unit": "m", "up": "+y", "floor": 0.0}  # the defaults, spelt out
+    (tmp_path / "explicit.json").write_text(json.dumps(data))
+    assert rig_json(load_rig(tmp_path / "explicit.json")) == rig_json(rig)
     save_rig(distorted(rig), tmp_path / "bent.json")
     assert np.array_equal(load_rig(tmp_path / "bent.json")[0].dist, coefficients(DIST))
 

@@ -51,3 +51,43 @@ def test_specks_are_dropped_and_limbs_kept_apart_from_the_body(scene):
 def test_bad_parameters(kwargs, fragment):
     with pytest.raises(VoxposeError, match=fragment):
         Segmentation(**kwargs)
+
+
+def test_videos_are_read_with_the_video_extra_or_refused_in_one_line_without(tmp_path):
+    from voxpose.voxels.cameras import circular_rig
+    from voxpose.voxels.recordings import recording
+
+    rig = circular_rig(n=2, width=32, image_height=16)
+    try:
+        import imageio.v3 as iio
+    except ImportError:
+        for cam in rig:
+            (tmp_path / f"{cam.name}.mp4").write_bytes(b"")
+        with pytest.raises(VoxposeError, match=r"cam0.mp4: reading videos needs the optional extra: pip install"):
+            next(recording(tmp_path, rig)[1])
+        return
+    for c, cam in enumerate(rig):
+        video = np.stack([np.full((16, 32, 3), 40 * c + 20 * f + 30, np.uint8) for f in range(3)])
+        iio.imwrite(tmp_path / f"{cam.name}.mp4", video, fps=10)
+    frames = list(recording(tmp_path, rig)[1])
+    assert [n for n, _ in frames] == [0, 1, 2] and frames[0][1].shape == (2, 16, 32, 3)
+    means = np.array([[images[c].mean() for c in range(2)] for _, images in frames])
+    assert np.abs(means - [[30, 70], [50, 90], [70, 110]]).max() < 4  # lossy, but the same grey levels
+
+
+def test_image_folders_with_frame_numbers_in_their_names(tmp_path):
+    from PIL import Image
+
+    from voxpose.voxels.cameras import circular_rig
+    from voxpose.voxels.recordings import recording
+
+    rig = circular_rig(n=2, width=8, image_height=6)
+    for c, cam in enumerate(rig):
+        (tmp_path / cam.name).mkdir()
+        for number in (12, 9, 10):
+            Image.fromarray(np.full((6, 8, 3), c * 100 + number, np.uint8)).save(tmp_path / cam.name /
+                                                                                  f"img_{number:04d}.jpg")
+    numbers, frames = recording(tmp_path, rig)
+    got = list(frames)
+    assert numbers == [9, 10, 12] and [n for n, _ in got] == [9, 10, 12]
+    assert got[2][1].shape == (2, 6, 8, 3) and abs(got[2][1][1].mean() - 112) < 2

@@ -134,5 +134,10 @@ def write_pictures(frames, path, fps: float) -> int:
     except ImportError:
         raise VoxposeError(f"-o {path}: writing MP4 needs the optional extra: pip install 'voxpose[video]'") from None
     with atomic_path(path) as tmp:
-        iio.imwrite(tmp, np.stack(pictures), extension=".mp4", fps=fps)
+        named = tmp.with_name(tmp.name + ".mp4")  # ffmpeg chooses the container by the file's suffix
+        try:
+            iio.imwrite(named, np.stack(pictures), fps=fps)
+            named.replace(tmp)
+        finally:
+            named.unlink(missing_ok=True)
     return len(pictures)

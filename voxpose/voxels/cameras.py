@@ -396,6 +396,10 @@ def world_alignment(data: dict):
     return scale, up_rotation(data.get("up", "+y")), np.array([0.0, -float(floor), 0.0])
 
 
+def _is_identity(scale, rot, shift) -> bool:
+    return scale == 1.0 and np.array_equal(rot, np.eye(3)) and not shift.any()
+
+
 def aligned(camera: Camera, scale: float, rot: np.ndarray, shift: np.ndarray) -> Camera:
     """``camera`` of a world X seen in voxpose's world ``scale (rot X + shift)`` (module docstring)."""
     r = camera.R @ rot.T
@@ -435,7 +439,7 @@ def rig_from_dict(data, label: str, default_name: str = "rig") -> Rig:
             cameras.append(_camera_from_dict(entry))
         except VoxposeError as err:
             raise VoxposeError(f"{label}: {where}: {err}") from None
-    if alignment is not None:
+    if alignment is not None and not _is_identity(*alignment):  # identity: the cameras as written, bit for bit
         cameras = [aligned(cam, *alignment) for cam in cameras]
     name = data.get("name", default_name)
     try:

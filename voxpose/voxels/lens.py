@@ -19,6 +19,8 @@ tests it against the conics there). Points whose rays the real image does not se
 times the largest undistorted radius of its border, where the polynomial may fold back) are background.
 """
 
+from dataclasses import replace
+
 import numpy as np
 
 from voxpose.errors import VoxposeError
@@ -90,8 +92,6 @@ class PinholeTwin:
     """The pinhole twin of a rig (module docstring): ``rig`` (undistorted, enlarged canvas) and the lookups."""
 
     def __init__(self, rig):
-        from voxpose.voxels.cameras import Camera, Rig
-
         height, width = rig.image_size
         bu, bv = _border(width, height)
         undist, radii = [], []
@@ -119,8 +119,8 @@ class PinholeTwin:
             k = cam.K.copy()
             k[0, 2] += left
             k[1, 2] += top
-            cameras.append(Camera(cam.name, k, cam.R, cam.t, self.size[1], self.size[0]))
-        self.rig = Rig(rig.name, cameras)
+            cameras.append(replace(cam, K=k, width=self.size[1], height=self.size[0], dist=None))
+        self.rig = replace(rig, cameras=cameras)
         self._cameras = [(twin.K, cam.dist, cam.K, r) for twin, cam, r in zip(cameras, rig.cameras, radii,
                                                                                strict=True)]  # fmt: skip
         self._to_twin = np.stack([self._twin_lookup(cam, twin.K, r, width, height)
