@@ -80,14 +80,32 @@ def test_colour_masks_are_read_as_grey(tmp_path):
     assert read_mask(tmp_path / "c.png", 3, 2).tolist() == [[False, True, False], [False, False, False]]
 
 
-def test_not_a_binary_mask(folder):
-    bad = folder / "cam1" / "000001.png"
+def test_grey_masks_are_thresholded_at_half_range(folder):
     soft = np.zeros((160, 200), np.uint8)
-    soft[:, :50] = 128  # an anti-aliased edge, say
+    soft[:, :50] = 127  # an anti-aliased edge, say: just below half
+    soft[:, 50:60] = 128  # just at half
     soft[:, 100:] = 255
-    Image.fromarray(soft).save(bad)
-    with pytest.raises(VoxposeError, match="000001.png: not a binary mask \\(3 grey levels"):
-        read_folder(folder, RIG)
+    Image.fromarray(soft).save(folder / "cam1" / "000001.png")
+    mask = read_folder(folder, RIG)[1, 1]
+    assert not mask[:, :50].any() and mask[:, 50:60].all() and not mask[:, 60:100].any() and mask[:, 100:].all()
+    Image.fromarray(soft.astype(np.uint16) * 257).save(folder / "cam2" / "000001.png")  # 16-bit: 32767 vs 32896
+    assert np.array_equal(read_folder(folder, RIG)[1, 2], mask)
+
+
+def test_layout_by_pattern_keeps_frame_numbers_and_takes_the_rigs_cameras(folder, tmp_path):
+    from voxpose.voxels.silhouettes import silhouette_frame_numbers
+
+    expected = read_folder(folder, RIG)
+    flat = tmp_path / "flat"
+    flat.mkdir()
+    for path in folder.glob("cam*/*.png"):
+        (flat / f"view_{path.parent.name}_f{int(path.stem) + 40}.png").write_bytes(path.read_bytes())
+    (flat / "view_cam9_f40.png").write_bytes(path.read_bytes())  # a camera the rig does not use
+    pattern = "view_{camera}_f{frame}.png"
+    assert silhouette_frame_numbers(flat, RIG, pattern) == [40, 41]
+    assert np.array_equal(np.stack(list(iter_silhouette_folder(flat, RIG, pattern))), expected)
+    with pytest.raises(VoxposeError, match="needs \\{frame\\} exactly once"):
+        silhouette_frame_numbers(flat, RIG, "view_{camera}.png")
 
 
 def test_wrong_image_size(folder):
@@ -98,13 +116,11 @@ def test_wrong_image_size(folder):
 
 def test_folders_not_matching_the_rig(folder):
     (folder / "cam2").rename(folder / "side")
-    with pytest.raises(VoxposeError, match="no folder for camera\\(s\\) cam2"):
+    with pytest.raises(VoxposeError, match="no frames for camera\\(s\\) cam2"):
         read_folder(folder, RIG)
     (folder / "side").rename(folder / "cam2")
-    (folder / "extra").mkdir()
-    with pytest.raises(VoxposeError, match="folder\\(s\\) extra match no camera"):
-        read_folder(folder, RIG)
-    (folder / "extra").rmdir()
+    (folder / "extra").mkdir()  # a camera the rig does not use: ignored
+    (folder / "extra" / "000000.png").write_bytes((folder / "cam0" / "000000.png").read_bytes())
     (folder / ".cache").mkdir()  # hidden entries are ignored
     assert read_folder(folder, RIG).shape == (2, 4, 160, 200)
 

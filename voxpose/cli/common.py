@@ -69,6 +69,11 @@ def _number(text: str) -> float:
     return value
 
 
+def finite_number(text: str) -> float:
+    """argparse type: any finite number."""
+    return _number(text)
+
+
 def positive_number(text: str) -> float:
     """argparse type: a finite number > 0."""
     value = _number(text)

@@ -38,6 +38,7 @@ from voxpose.cli import (
     rig,
     silhouette_contexts,
     silhouette_features,
+    silhouettes,
     table1,
     table2,
     verify,
@@ -84,7 +85,7 @@ SUBCOMMANDS = dict(
     map(_of, (generate, derive, motion, rig, voxelize, carve, describe, fit_features, features, regress, evaluate,
               experiment_table, generalisation_table, table1, table2, figure4, joint_errors, error_over_time, gallery,
               voxelize_degraded, silhouette_contexts, fit_silhouette_features, silhouette_features, export_model,
-              predict, render, data_fetch, check_config, verify))
+              predict, render, silhouettes, data_fetch, check_config, verify))
 ) | {  # fmt: skip
     "camera-figure": Subcommand("error against camera rig: transferred, retrained, A&T", claims_figure.add_arguments,
                                 claims_figure.run_cameras, claims_figure.__name__),

@@ -17,6 +17,8 @@ def add_arguments(p):
     source.add_argument("--silhouettes", help="folder with one PNG folder per camera (voxpose.voxels.silhouettes)")
     source.add_argument("--voxels", help="voxel file (HDF5) from `voxpose carve` or `voxpose voxelize`")
     p.add_argument("--rig", help="rig calibration file (JSON or YAML); needed with --silhouettes")
+    p.add_argument("--pattern", help="silhouette file layout, e.g. '{camera}/img_{frame}.png' "
+                   "(default '{camera}/{frame}.png'; voxpose/voxels/silhouettes.py)")  # fmt: skip
     p.add_argument(
         "--smooth",
         type=non_negative_number,
@@ -50,21 +52,25 @@ def run(args):
     true_angles, fps = None, args.fps
     if args.silhouettes:
         from voxpose.voxels.cameras import load_rig
+        from voxpose.voxels.plausibility import check_height, check_rig
         from voxpose.voxels.silhouettes import iter_silhouette_folder, silhouette_frame_numbers
 
         if not args.rig:
             raise VoxposeError("--silhouettes needs --rig (the cameras' calibration file)")
         rig = load_rig(args.rig)
-        frames = silhouette_frame_numbers(args.silhouettes, rig)
-        seq = carve(model, iter_silhouette_folder(args.silhouettes, rig), rig, n_frames=len(frames),
+        check_rig(rig, args.rig)
+        frames = silhouette_frame_numbers(args.silhouettes, rig, args.pattern)
+        seq = carve(model, iter_silhouette_folder(args.silhouettes, rig, args.pattern), rig, n_frames=len(frames),
                     name=str(args.silhouettes))  # fmt: skip
+        check_height(seq.h_sub, args.rig)
         source = {"silhouettes": str(args.silhouettes), "rig": rig.name}
     else:
         from voxpose.voxels.sequence import read_voxels
 
         seq, meta, true_angles = read_voxels(args.voxels)
         check_voxels(model, seq, meta, args.voxels)
-        frames, fps = None, fps if fps is not None else meta.get("fps")
+        # carve's frame numbers, else 0, 1, ...
+        frames, fps = meta.get("frames"), fps if fps is not None else meta.get("fps")
         source = {"voxels": str(args.voxels)}
     prediction = predict_voxels(model, seq, frames=frames, fps=fps, true_angles=true_angles, smooth=args.smooth,
                                 name=str(args.silhouettes or args.voxels))  # fmt: skip

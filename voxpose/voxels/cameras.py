@@ -11,21 +11,44 @@ spans ``[-0.5, width - 0.5] x [-0.5, height - 0.5]``. A point belongs to the pix
 ``(floor(v + 0.5), floor(u + 0.5))``. All cameras of a rig share one image size, so a frame's
 silhouettes stack into a (C, H, W) array.
 
-Rig files (JSON, or YAML with a ``.yaml``/``.yml`` suffix)::
+Rig files (JSON, or YAML with a ``.yaml``/``.yml`` suffix): the one place their format is described::
 
-    {"name": "circle6",                       # optional: defaults to the file stem
+    {"name": "studio",                        # optional: defaults to the file stem
+     "unit": "mm",                            # optional: metres per length unit (a number, or m dm cm mm); 1
+     "up": "+z", "floor": 0.0,                # optional: the world's up axis (+x -x +y -y +z -z or a vector)
+                                              # and the floor's height along it, in the file's unit; +y and 0
+     # or instead of up/floor: "world": 4x4 rigid transform from the file's world to a Y-up world
+     #                         whose floor is y = 0, in the file's unit
      "cameras": [                             # one object per camera, in silhouette order
        {"name": "cam0",                       # unique; also the camera's silhouette folder name
         "width": 480, "height": 480,          # image size in pixels
         "K": [[fx, s, cx], [0, fy, cy], [0, 0, 1]],    # or "fx", "fy", "cx", "cy" (and "skew")
-        "R": [[...], [...], [...]], "t": [tx, ty, tz]  # world -> camera; or instead:
-        # "centre": [x, y, z], "look_at": [x, y, z], "up": [0, 1, 0]   (camera centre in metres)
+        "dist": [k1, k2, p1, p2, k3],         # optional: OpenCV distortion, 2 to 5 coefficients (voxels.lens)
+        "R": [[...], [...], [...]], "t": [tx, ty, tz]  # world -> camera, t in the file's unit; or instead:
+        # "centre": [x, y, z], "look_at": [x, y, z], "up": [0, 1, 0]   (in the file's world and unit)
        }, ...]}
 
-``save_rig`` writes K, R and t. ``load_rig`` checks every camera and names the file, the camera and the
-key at fault: missing or unknown keys, wrong shapes, non-finite numbers, a degenerate K (non-positive
-focal lengths or a last row other than (0, 0, 1)), an R that is not a rotation (orthonormal to 1e-6,
-determinant +1), a non-positive or non-integer image size, duplicate names, differing image sizes.
+Example: a studio calibrated in millimetres on a floor checkerboard with Z up::
+
+    {"unit": "mm", "up": "+z", "floor": 0,
+     "cameras": [{"name": "c1", "width": 1280, "height": 720,
+                  "K": [[1100, 0, 640], [0, 1100, 360], [0, 0, 1]], "dist": [-0.21, 0.08, 0, 0, 0],
+                  "R": [[1, 0, 0], [0, 0, -1], [0, 1, 0]], "t": [0, 1000, 4000]}]}
+
+``load_rig`` returns the rig in voxpose's world (metres, Y up, floor at y = 0): with ``unit`` s, a rotation
+A taking the file's up axis to +Y (the smallest such rotation; for a down axis, -y or a vector opposite to
++Y, the half turn about X) and the floor f, a file point X is the world point ``s (A X - f e_y)``, so each
+camera's ``R`` becomes ``R A^T`` and ``t`` becomes ``s t + R A^T (0, s f, 0)``. A ``world`` matrix
+``[[A, a], [0, 1]]`` gives ``s (A X + a)`` likewise. Distortion acts on normalised coordinates and needs no
+change. A rig without these keys is used exactly as written. ``rig import`` (``voxpose.voxels.calibration``)
+writes such files from OpenCV calibrations.
+
+``save_rig`` writes K, R, t (and ``dist`` for distorted cameras) in the world of voxpose. ``load_rig`` checks
+every camera and names the file, the camera and the key at fault: missing or unknown keys, wrong shapes,
+non-finite numbers, a degenerate K (non-positive focal lengths or a last row other than (0, 0, 1)), an R that
+is not a rotation (orthonormal to 1e-4, determinant +1; a rotation off by more than 1e-6, as printed
+calibrations are, is re-orthonormalised to the nearest rotation with a log line), a non-positive or
+non-integer image size, duplicate names, differing image sizes.
 
 The default rig (``circular_rig``): 6 cameras on a horizontal circle of radius 4 m, 2.0 m high, all
 looking at (0, 1.0, 0) (so 14 degrees down), with 480 x 480 images and a 560 px focal length. A 1.75 m
@@ -37,6 +60,7 @@ each frame horizontally on ``Rig.target`` (``voxpose.voxels.voxelize``).
 """
 
 import json
+import logging
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -45,8 +69,15 @@ import yaml
 
 from voxpose.errors import VoxposeError
 from voxpose.io.atomic import atomic_path
+from voxpose.io.text import read_text
+from voxpose.voxels import lens
 
-_ORTHO_TOL = 1e-6
+log = logging.getLogger(__name__)
+
+_ORTHO_TOL = 1e-4  # rotations printed to a few digits are accepted ...
+_REORTHONORMALISE = 1e-6  # ... and those off by more than this are replaced by the nearest rotation
+UNITS = {"m": 1.0, "dm": 0.1, "cm": 0.01, "mm": 0.001}
+AXES = {"+x": (1, 0, 0), "-x": (-1, 0, 0), "+y": (0, 1, 0), "-y": (0, -1, 0), "+z": (0, 0, 1), "-z": (0, 0, -1)}
 
 
 @dataclass(frozen=True)
@@ -59,6 +90,7 @@ class Camera:
     K : (3, 3) intrinsics in pixels.
     R : (3, 3) world -> camera rotation; t : (3,) translation in metres.
     width, height : image size in pixels.
+    dist : (5,) OpenCV distortion ``(k1, k2, p1, p2, k3)`` (``voxpose.voxels.lens``); default none (zeros).
     """
 
     name: str
@@ -67,22 +99,36 @@ class Camera:
     t: np.ndarray
     width: int
     height: int
+    dist: np.ndarray = None
 
     def __post_init__(self):
         object.__setattr__(self, "K", _matrix(self.K, (3, 3), "K"))
         object.__setattr__(self, "R", _matrix(self.R, (3, 3), "R"))
         object.__setattr__(self, "t", _matrix(self.t, (3,), "t"))
+        dist = np.zeros(lens.N_COEFFICIENTS) if self.dist is None else lens.coefficients(self.dist)
+        object.__setattr__(self, "dist", dist)
         k = self.K
         if k[0, 0] <= 0 or k[1, 1] <= 0:
             raise VoxposeError(f"K is degenerate: focal lengths must be positive, got {k[0, 0]}, {k[1, 1]}")
         if k[1, 0] != 0 or k[2, 0] != 0 or k[2, 1] != 0 or k[2, 2] != 1:
             raise VoxposeError("K must be upper triangular with last row (0, 0, 1)")
-        if np.abs(self.R @ self.R.T - np.eye(3)).max() > _ORTHO_TOL or np.linalg.det(self.R) < 0:
-            raise VoxposeError("R is not a rotation (orthonormal with determinant +1)")
+        off = np.abs(self.R @ self.R.T - np.eye(3)).max()
+        if off > _ORTHO_TOL or np.linalg.det(self.R) < 0:
+            raise VoxposeError(f"R is not a rotation (orthonormal to {_ORTHO_TOL:g} with determinant +1; "
+                               f"off by {off:.2g})")  # fmt: skip
+        if off > _REORTHONORMALISE:
+            u, _, vt = np.linalg.svd(self.R)
+            object.__setattr__(self, "R", u @ vt)
+            log.info("camera %s: R is orthonormal to %.2g only; replaced by the nearest rotation", self.name, off)
         for key in ("width", "height"):
             value = getattr(self, key)
             if isinstance(value, bool) or not isinstance(value, int | np.integer) or value <= 0:
                 raise VoxposeError(f"{key} must be a positive integer number of pixels, got {value!r}")
+
+    @property
+    def distorted(self) -> bool:
+        """Whether the camera has lens distortion."""
+        return bool(self.dist.any())
 
     @property
     def P(self) -> np.ndarray:
@@ -103,9 +149,13 @@ class Camera:
         """Pixel coordinates (..., 2) of world points (..., 3); with ``return_depth`` also depth (...).
 
         Depth is the camera-frame z; a point with depth <= 0 is behind the camera and its pixel
-        coordinates are meaningless.
+        coordinates are meaningless. Lens distortion, if any, is applied (``voxpose.voxels.lens``).
         """
         x_cam = np.einsum("...j,ij->...i", np.asarray(points, dtype=float), self.R) + self.t
+        if self.distorted:
+            x, y = lens.distort(x_cam[..., 0] / x_cam[..., 2], x_cam[..., 1] / x_cam[..., 2], self.dist)
+            uv = np.stack([self.K[0, 0] * x + self.K[0, 1] * y + self.K[0, 2], self.K[1, 1] * y + self.K[1, 2]], -1)
+            return (uv, x_cam[..., 2]) if return_depth else uv
         x_img = np.einsum("...j,ij->...i", x_cam, self.K)
         uv = x_img[..., :2] / x_img[..., 2:3]
         return (uv, x_cam[..., 2]) if return_depth else uv
@@ -151,6 +201,15 @@ class Rig:
     def image_size(self) -> tuple:
         """(height, width) of every camera's image."""
         return self.cameras[0].height, self.cameras[0].width
+
+    @property
+    def distorted(self) -> bool:
+        """Whether any camera has lens distortion (then carving and rendering go through ``lens.PinholeTwin``)."""
+        return any(c.distorted for c in self.cameras)
+
+    def without_distortion(self) -> "Rig":
+        """The same cameras with the distortion dropped (what ignoring it would carve)."""
+        return Rig(self.name, [Camera(c.name, c.K, c.R, c.t, c.width, c.height) for c in self.cameras])
 
     @property
     def projections(self) -> np.ndarray:
@@ -237,7 +296,7 @@ def _matrix(value, shape, key) -> np.ndarray:
 
 
 _INTRINSIC_KEYS = ("fx", "fy", "cx", "cy")
-_KNOWN_KEYS = {"name", "width", "height", "K", "skew", "R", "t", "centre", "look_at", "up", *_INTRINSIC_KEYS}
+_KNOWN_KEYS = {"name", "width", "height", "K", "skew", "dist", "R", "t", "centre", "look_at", "up", *_INTRINSIC_KEYS}
 
 
 def _camera_from_dict(entry) -> Camera:
@@ -275,42 +334,118 @@ def _camera_from_dict(entry) -> Camera:
         rot, t = look_at(centre, target, up)
     else:
         raise VoxposeError("missing key 'R' and 't' (or 'centre' and 'look_at')")
-    return Camera(entry["name"], k, rot, t, entry["width"], entry["height"])
+    dist = entry.get("dist")
+    if dist is not None and (not isinstance(dist, list) or not all(isinstance(d, int | float) for d in dist)):
+        raise VoxposeError("dist must be a list of 2 to 5 numbers (k1 k2 [p1 p2 [k3]])")
+    return Camera(entry["name"], k, rot, t, entry["width"], entry["height"], dist)
+
+
+def unit_scale(value) -> float:
+    """Metres per unit of a ``unit`` key or ``--unit`` option: a positive number or one of ``UNITS``."""
+    if isinstance(value, str) and value.strip().lower() in UNITS:
+        return UNITS[value.strip().lower()]
+    try:
+        scale = float(value)
+    except (TypeError, ValueError):
+        scale = float("nan")
+    if not (np.isfinite(scale) and scale > 0):
+        raise VoxposeError(f"unit must be metres per unit (a positive number) or one of {', '.join(UNITS)}, "
+                           f"got {value!r}")  # fmt: skip
+    return scale
+
+
+def up_rotation(value) -> np.ndarray:
+    """The rotation A taking an ``up`` axis (+x -x +y -y +z -z or a 3-vector) to +Y: the smallest one, or for
+    an axis opposite to +Y the half turn about X."""
+    if isinstance(value, str):
+        if value.strip().lower() not in AXES:
+            raise VoxposeError(f"up must be one of {', '.join(AXES)} or a 3-vector, got {value!r}")
+        value = AXES[value.strip().lower()]
+    up = _matrix(value, (3,), "up")
+    norm = np.linalg.norm(up)
+    if norm == 0:
+        raise VoxposeError("up must be a non-zero vector")
+    up = up / norm
+    y = np.array([0.0, 1.0, 0.0])
+    axis = np.cross(up, y)
+    sin, cos = np.linalg.norm(axis), float(up @ y)
+    if sin < 1e-12:
+        return np.eye(3) if cos > 0 else np.diag([1.0, -1.0, -1.0])
+    axis /= sin
+    cross = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    return np.eye(3) + sin * cross + (1 - cos) * cross @ cross
+
+
+def world_alignment(data: dict):
+    """(s, A, a) of a rig file's ``unit``, ``up``/``floor`` or ``world`` keys: world point ``s (A X + a)``;
+    ``None`` when the file has none of them (the rig is used as written)."""
+    if not any(key in data for key in ("unit", "up", "floor", "world")):
+        return None
+    scale = unit_scale(data.get("unit", 1.0))
+    if "world" in data:
+        if "up" in data or "floor" in data:
+            raise VoxposeError("world: give either 'world' or 'up'/'floor', not both")
+        world = _matrix(data["world"], (4, 4), "world")
+        if np.abs(world[3] - [0, 0, 0, 1]).max() > 0:
+            raise VoxposeError("world: the last row must be (0, 0, 0, 1)")
+        rot, shift = world[:3, :3], world[:3, 3]
+        if np.abs(rot @ rot.T - np.eye(3)).max() > _ORTHO_TOL or np.linalg.det(rot) < 0:
+            raise VoxposeError("world: the 3x3 part must be a rotation (rigid, right-handed)")
+        return scale, rot, shift
+    floor = _matrix(data.get("floor", 0.0), (), "floor")
+    return scale, up_rotation(data.get("up", "+y")), np.array([0.0, -float(floor), 0.0])
+
+
+def _is_identity(scale, rot, shift) -> bool:
+    return scale == 1.0 and np.array_equal(rot, np.eye(3)) and not shift.any()
+
+
+def aligned(camera: Camera, scale: float, rot: np.ndarray, shift: np.ndarray) -> Camera:
+    """``camera`` of a world X seen in voxpose's world ``scale (rot X + shift)`` (module docstring)."""
+    r = camera.R @ rot.T
+    t = scale * camera.t - scale * (r @ shift)
+    return Camera(camera.name, camera.K, r, t, camera.width, camera.height, camera.dist)
 
 
 def load_rig(path) -> Rig:
     """Read a rig file (format in the module docstring); every error names the file, camera and key."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as err:
-        raise VoxposeError(f"{path}: cannot read rig file ({err.strerror})") from None
-    except UnicodeDecodeError:
-        raise VoxposeError(f"{path}: not a valid rig file (not JSON or YAML text)") from None
+    text = read_text(path, "rig file")
     try:
         data = yaml.safe_load(text) if path.suffix.lower() in (".yaml", ".yml") else json.loads(text)
     except (json.JSONDecodeError, yaml.YAMLError) as err:
         first_line = str(err).splitlines()[0]
         raise VoxposeError(f"{path}: not a valid rig file ({first_line})") from None
+    return rig_from_dict(data, str(path), path.stem)
+
+
+def rig_from_dict(data, label: str, default_name: str = "rig") -> Rig:
+    """The rig of a rig file's parsed contents; errors start with ``label`` (the file)."""
     if not isinstance(data, dict) or "cameras" not in data:
-        raise VoxposeError(f"{path}: missing key 'cameras' (a list with one object per camera)")
+        raise VoxposeError(f"{label}: missing key 'cameras' (a list with one object per camera)")
+    try:
+        alignment = world_alignment(data)
+    except VoxposeError as err:
+        raise VoxposeError(f"{label}: {err}") from None
     entries = data["cameras"]
     if not isinstance(entries, list) or not entries:
-        raise VoxposeError(f"{path}: 'cameras' must be a non-empty list")
+        raise VoxposeError(f"{label}: 'cameras' must be a non-empty list")
     cameras = []
     for i, entry in enumerate(entries):
-        label = f"cameras[{i}]"
+        where = f"cameras[{i}]"
         if isinstance(entry, dict) and isinstance(entry.get("name"), str):
-            label += f" ({entry['name']})"
+            where += f" ({entry['name']})"
         try:
             cameras.append(_camera_from_dict(entry))
         except VoxposeError as err:
-            raise VoxposeError(f"{path}: {label}: {err}") from None
-    name = data.get("name", path.stem)
+            raise VoxposeError(f"{label}: {where}: {err}") from None
+    if alignment is not None and not _is_identity(*alignment):  # identity: the cameras as written, bit for bit
+        cameras = [aligned(cam, *alignment) for cam in cameras]
+    name = data.get("name", default_name)
     try:
         return Rig(str(name), cameras)
     except VoxposeError as err:
-        raise VoxposeError(f"{path}: {err}") from None
+        raise VoxposeError(f"{label}: {err}") from None
 
 
 def rig_from_config(cfg: dict) -> Rig:
@@ -342,6 +477,7 @@ def rig_json(rig: Rig) -> str:
                 "R": cam.R.tolist(),
                 "t": cam.t.tolist(),
             }
+            | ({"dist": cam.dist.tolist()} if cam.distorted else {})
             for cam in rig.cameras
         ],
     }

@@ -20,6 +20,14 @@ least ``min_views`` cameras is kept whole, any other cell is split into 8; singl
 their centres. The windows are conservative, so the result is exactly that of testing every voxel of the
 box (``tests/voxels/test_carve.py`` checks it); only the work shrinks.
 
+Lens distortion. A rig with distorted cameras is carved through its pinhole twin (``voxpose.voxels.lens``):
+the octree's windows are straight-line projections on the twin's canvas, and each frame's silhouettes are
+looked up there twice, dilated and eroded by one pixel (3 x 3) in the real image first: the lookup moves a
+point by less than a real pixel in each coordinate, so a twin window's pixels in the dilated lookup bound
+those a cell may hold and in the eroded lookup those it surely holds. Single voxels are then tested at their
+true distorted projections, so the result is that of testing every voxel centre at the real pixel holding its
+distorted projection (``tests/voxels/test_lens.py`` checks it). An undistorted rig is carved exactly as before.
+
 An empty hull (silhouettes that do not intersect) gives an empty (0, 3) array, which the caller reports
 per frame; ``voxels.voxelize`` raises ``EmptyHullError`` when no frame has a hull to measure h_sub on.
 """
@@ -28,9 +36,11 @@ import itertools
 import math
 
 import numpy as np
+from scipy import ndimage
 
 from voxpose.errors import VoxposeError
 from voxpose.voxels.cameras import Rig
+from voxpose.voxels.lens import pinhole_twin
 
 _MAX_SUBSETS = 1000
 _COARSE_CELLS = 4  # the coarsest octree level has about this many cells along the box's longest side
@@ -58,6 +68,8 @@ def capture_bounds(rig: Rig, min_views: int | None = None) -> np.ndarray:
     region (parallel views, ``min_views=1``) is an error asking for explicit ``bounds``.
     """
     k = len(rig) if min_views is None else int(min_views)
+    if rig.distorted:
+        rig = pinhole_twin(rig).rig  # the twin's frusta hold every ray the real images see
     key = (tuple((c.P.tobytes(), c.width, c.height) for c in rig.cameras), k)
     if key in _capture_cache:
         return _capture_cache[key].copy()
@@ -121,6 +133,9 @@ class Carver:
         if box.shape != (2, 3) or not np.isfinite(box).all() or (box[1] < box[0]).any():
             raise VoxposeError("carve: bounds must be finite [[xmin, ymin, zmin], [xmax, ymax, zmax]]")
         self.rig = rig
+        self._twin = pinhole_twin(rig) if rig.distorted else None
+        if self._twin is not None:
+            rig = self._twin.rig
         self.l_res = float(l_res)
         self.min_views = int(min_views)
         self.lo = np.ceil(box[0] / self.l_res - 0.5).astype(np.int64)
@@ -152,9 +167,9 @@ class Carver:
         with np.errstate(divide="ignore", invalid="ignore"):
             return x / z, y / z, z
 
-    def _cell_views(self, cells, side, tables):
-        """For each cell (N,): cameras whose silhouette may hold one of its voxel centres, and cameras
-        whose silhouette surely holds all of them."""
+    def _cell_views(self, cells, side, tables, full_tables):
+        """For each cell (N,): cameras whose silhouette (``tables``) may hold one of its voxel centres, and
+        cameras whose silhouette (``full_tables``) surely holds all of them."""
         flat, base, offsets, limits = tables
         rho = 0.5 * math.sqrt(3.0) * (side - 1) * self.l_res
         u, v, z = self._project(cells * float(side) + 0.5 * (side - 1))
@@ -166,10 +181,10 @@ class Carver:
         ru = scale * np.sqrt(np.maximum(self._aa - 2 * u * self._ap + u * u * self._pp, 0))
         rv = scale * np.sqrt(np.maximum(self._bb - 2 * v * self._bp + v * v * self._pp, 0))
         # window of pixel rows r0..r1-1 and columns c0..c1-1 (image), then clipped to each crop
-        c0 = np.floor(u - ru + 0.5)
-        c1 = np.floor(u + ru + 1.5)
-        r0 = np.floor(v - rv + 0.5)
-        r1 = np.floor(v + rv + 1.5)
+        c0 = u0 = np.floor(u - ru + 0.5)
+        c1 = u1 = np.floor(u + ru + 1.5)
+        r0 = v0 = np.floor(v - rv + 0.5)
+        r1 = v1 = np.floor(v + rv + 1.5)
         area = (c1 - c0) * (r1 - r0)
         c0, c1 = (np.clip(c - offsets[:, 1:], 0, limits[:, 1:]).astype(np.int64) for c in (c0, c1))
         r0, r1 = (np.clip(r - offsets[:, :1], 0, limits[:, :1]).astype(np.int64) for r in (r0, r1))
@@ -178,6 +193,14 @@ class Carver:
         r1 = r1 * stride + base
         hits = flat[r1 + c1] - flat[r0 + c1] - flat[r1 + c0] + flat[r0 + c0]
         maybe = ((hits > 0) | ~front).sum(axis=0)
+        if full_tables is not tables:
+            flat, base = full_tables[:2]
+            full_offsets, full_limits = full_tables[2:]
+            c0, c1 = (np.clip(c - full_offsets[:, 1:], 0, full_limits[:, 1:]).astype(np.int64) for c in (u0, u1))
+            r0, r1 = (np.clip(r - full_offsets[:, :1], 0, full_limits[:, :1]).astype(np.int64) for r in (v0, v1))
+            stride = full_limits[:, 1:] + 1
+            r0, r1 = r0 * stride + base, r1 * stride + base
+            hits = flat[r1 + c1] - flat[r0 + c1] - flat[r1 + c0] + flat[r0 + c0]
         full = ((hits == area) & front).sum(axis=0)
         return maybe, full
 
@@ -185,6 +208,8 @@ class Carver:
         """Number of silhouettes containing each voxel centre ``(lo + grid + 0.5) * l_res`` (N,)."""
         n_cams, height, width = sil.shape
         u, v, z = self._project(grid.astype(float))
+        if self._twin is not None:  # the real (distorted) projection, on the twin's pinhole coordinates
+            u, v = self._twin.distort_pixels(u, v)
         with np.errstate(invalid="ignore"):
             col = np.floor(u + 0.5)
             row = np.floor(v + 0.5)
@@ -196,7 +221,13 @@ class Carver:
     def __call__(self, silhouettes) -> np.ndarray:
         """Occupied voxels (N, 3) int32 of one frame's silhouettes (C, H, W) bool."""
         sil = _check_silhouettes(silhouettes, self.rig)
-        tables = _summed_areas(sil)
+        if self._twin is None:
+            tables = full_tables = _summed_areas(sil)
+        else:  # conservative twins: a cell's pixels there bound its pixels in the real images (module docstring)
+            tables = _summed_areas(self._twin.to_twin(_dilate(sil)))
+            full_tables = _summed_areas(self._twin.to_twin(_erode(sil)))
+            if full_tables is None:
+                full_tables = _NO_PIXELS(len(sil))
         if len(self._coarse) == 0 or tables is None:
             return np.zeros((0, 3), dtype=np.int32)
         if np.count_nonzero(tables[3][:, 0] > 0) < self.min_views:
@@ -206,7 +237,7 @@ class Carver:
         done = []  # voxels (grid offsets from lo) of cells found wholly inside the hull
         for level in range(self.levels, 0, -1):
             side = 2**level
-            maybe, full = self._cell_views(cells, side, tables)
+            maybe, full = self._cell_views(cells, side, tables, full_tables)
             inside = full >= self.min_views
             if inside.any():
                 block = np.argwhere(np.ones((side,) * 3, dtype=bool))
@@ -220,6 +251,21 @@ class Carver:
 
 
 _CHILDREN = np.array(list(itertools.product((0, 1), repeat=3)), dtype=np.int64)
+_SQUARE = np.ones((1, 3, 3), dtype=bool)
+
+
+def _dilate(sil):
+    return ndimage.binary_dilation(sil, _SQUARE)
+
+
+def _erode(sil):
+    return ndimage.binary_erosion(sil, _SQUARE, border_value=0)
+
+
+def _NO_PIXELS(n_cams):  # noqa: N802 (a table constructor)
+    """Summed-area tables of empty silhouettes (``_summed_areas`` layout)."""
+    zeros = np.zeros((n_cams, 2), dtype=np.int64)
+    return np.zeros(n_cams, dtype=np.int32), np.arange(n_cams)[:, None], zeros, zeros.copy()
 
 
 def _summed_areas(sil: np.ndarray):

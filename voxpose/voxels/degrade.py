@@ -104,7 +104,7 @@ def drop_limb(sil: np.ndarray, ellipsoids: Ellipsoids, rig: Rig, n_segments: int
 def rotate_camera(camera: Camera, degrees: float, axis) -> Camera:
     """``camera`` rotated by ``degrees`` about ``axis`` (camera frame) through its centre (centre unchanged)."""
     q = axis_angle_to_matrix(np.asarray(axis, dtype=float), np.radians(degrees))
-    return Camera(camera.name, camera.K, q @ camera.R, q @ camera.t, camera.width, camera.height)
+    return Camera(camera.name, camera.K, q @ camera.R, q @ camera.t, camera.width, camera.height, camera.dist)
 
 
 @dataclass(frozen=True)

@@ -13,6 +13,9 @@ bounding box is ``m +- sqrt(diag(E))``; only the pixels of that box are tested, 
 form. A pixel is in a silhouette when its centre (integer coordinates, ``voxpose.voxels.cameras``) lies inside
 the outline of at least one ellipsoid.
 
+A rig with lens distortion is rendered exactly too: each real pixel centre is undistorted onto the pinhole
+twin (``voxpose.voxels.lens``) and tested against the conics there.
+
 An ellipsoid that contains a camera centre or reaches behind a camera's image plane has no bounded
 outline: that is a ``VoxposeError`` naming the segment and the camera (move the rig further away).
 """
@@ -22,6 +25,7 @@ import numpy as np
 from voxpose.errors import VoxposeError
 from voxpose.voxels.body import Ellipsoids
 from voxpose.voxels.cameras import Rig
+from voxpose.voxels.lens import pinhole_twin
 
 
 def image_ellipses(ellipsoids: Ellipsoids, rig: Rig):
@@ -60,6 +64,8 @@ def image_ellipses(ellipsoids: Ellipsoids, rig: Rig):
 
 def render_silhouettes(ellipsoids: Ellipsoids, rig: Rig) -> np.ndarray:
     """Silhouettes (C, H, W) bool of one frame's body model (``Ellipsoids.frame(f)``) in every camera."""
+    if rig.distorted:
+        return _render_distorted(ellipsoids, rig)
     centres, shapes = image_ellipses(ellipsoids, rig)
     height, width = rig.image_size
     out = np.zeros((len(rig), height, width), dtype=bool)
@@ -76,4 +82,23 @@ def render_silhouettes(ellipsoids: Ellipsoids, rig: Rig) -> np.ndarray:
         s = shapes[c, e]
         inside = s[1, 1] * du * du - 2.0 * s[0, 1] * dv * du + s[0, 0] * dv * dv <= det[c, e]
         out[c, v0[c, e] : v1[c, e] + 1, u0[c, e] : u1[c, e] + 1] |= inside
+    return out
+
+
+def _render_distorted(ellipsoids: Ellipsoids, rig: Rig) -> np.ndarray:
+    """Silhouettes of a distorted rig: every real pixel centre's exact twin position tested against the conics."""
+    twin = pinhole_twin(rig)
+    centres, shapes = image_ellipses(ellipsoids, twin.rig)
+    det = shapes[..., 0, 0] * shapes[..., 1, 1] - shapes[..., 0, 1] ** 2
+    half = np.sqrt(np.stack([shapes[..., 0, 0], shapes[..., 1, 1]], axis=-1))
+    out = np.zeros((len(rig),) + rig.image_size, dtype=bool)
+    for c in range(len(rig)):
+        u, v = twin.undistorted[c]
+        for e in range(centres.shape[1]):
+            du, dv = u - centres[c, e, 0], v - centres[c, e, 1]
+            near = (np.abs(du) <= half[c, e, 0]) & (np.abs(dv) <= half[c, e, 1])
+            if not near.any():
+                continue
+            s, a, b = shapes[c, e], du[near], dv[near]
+            out[c][near] |= s[1, 1] * a * a - 2.0 * s[0, 1] * b * a + s[0, 0] * b * b <= det[c, e]
     return out
