@@ -108,6 +108,7 @@ class MVRVM:
     kernel_width_ : the width used.
     log_marginal_likelihood_ : (n_iter_ + 1,) log marginal likelihood, initially and after each iteration.
     n_iter_ : iterations run.
+    n_candidates_ : training rows that carried a candidate Gaussian (all of them unless ``max_candidates``).
     converged_ : whether the convergence criterion was met before ``max_iter``.
     """
 
@@ -358,6 +359,7 @@ class MVRVM:
         self.has_bias_ = bool(self.bias and basis.size and basis[0] == 0)
         self.relevance_ = self._centres[basis[int(self.has_bias_) :] - int(self.bias)]
         self.relevance_vectors_ = x[self.relevance_]
+        self.n_candidates_ = self._centres.size
         self.coef_ = post.mu[:, : basis.size][:, order].T.copy()
         self.alpha_ = post.alpha[basis]
         self.beta_ = post.beta.copy()
