@@ -10,7 +10,9 @@ peak resident memory (``ru_maxrss``) is its own; CPU is user + system of that ch
 
 Run: ``OPENBLAS_NUM_THREADS=1 python benchmarks/bench_mvrvm_scaling.py FEATURES MOTION.h5 ...
 [--width 0.127 | --scale 0.8] [--max-candidates 2000] [--rows 1000 2000 5000 10000 20000]``;
-``--max-candidates 0`` fits Eq. 3 (a Gaussian on every row), the old behaviour.
+``--max-candidates 0`` fits Eq. 3 (a Gaussian on every row), the old behaviour. ``--synthetic ROWS`` replaces
+the real rows by ``bench_mvrvm.py``'s smooth stand-in (200-d soft assignments of an 8-d latent pose), for
+sizes beyond a real training set.
 """
 
 import argparse
@@ -51,29 +53,39 @@ def fit_one(x, z, x_val, z_val, width, max_candidates, max_iter, seed, queue) ->
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("features")
-    parser.add_argument("motions", nargs="+")
+    parser.add_argument("features", nargs="?")
+    parser.add_argument("motions", nargs="*")
+    parser.add_argument("--synthetic", type=int, help="this many stand-in rows instead of real features")
     parser.add_argument("--rows", type=int, nargs="+", default=[1000, 2000, 5000, 10000, 20000])
     parser.add_argument("--width", type=float, help="kernel width (default: --scale times the median distance)")
-    parser.add_argument("--scale", type=float, default=0.8)
+    parser.add_argument("--scale", type=float, nargs="+", default=[0.8], help="each a row of the table")
     parser.add_argument("--max-candidates", type=int, default=2000, help="0: a Gaussian on every row (Eq. 3)")
     parser.add_argument("--max-iter", type=int, default=2000)
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args()
     from voxpose.regression.kernels import median_pairwise_distance
 
-    x, z = load(args.features, args.motions)
+    if args.synthetic:
+        from bench_mvrvm import features, trajectories
+
+        rng = np.random.default_rng(args.seed)
+        latent = trajectories(args.synthetic, 8, rng)
+        x = features(latent, rng.uniform(-2.0, 2.0, size=(200, 8)), rng)
+        z = latent + 0.05 * rng.standard_normal(latent.shape)
+    else:
+        x, z = load(args.features, args.motions)
     order = np.random.default_rng(args.seed).permutation(len(x))
-    width = args.width or args.scale * median_pairwise_distance(x, random_state=args.seed)
+    median = median_pairwise_distance(x, random_state=args.seed)
     cands = args.max_candidates or None
-    print(f"{len(x)} rows x {x.shape[1]} features -> {z.shape[1]} pose-PCA outputs; width {width:.4g}; "
+    print(f"{len(x)} rows x {x.shape[1]} features -> {z.shape[1]} pose-PCA outputs; median distance {median:.4g}; "
           f"candidates {cands or 'every row'}; max_iter {args.max_iter}")  # fmt: skip
-    print(f"{'N':>6} {'wall s':>8} {'CPU s':>8} {'peak MB':>8} {'RVs':>6} {'RV %':>6} {'moves':>6} {'conv':>5} "
-          f"{'val RMSE':>9}")  # fmt: skip
+    columns = ("width", "N", "wall s", "CPU s", "peak MB", "RVs", "RV %", "moves", "conv", "val RMSE")
+    print(" ".join(f"{c:>{w}}" for c, w in zip(columns, (7, 6, 8, 8, 8, 6, 6, 6, 5, 9), strict=True)))
     ctx = multiprocessing.get_context("fork")
-    for n in args.rows:
+    widths = [args.width] if args.width else list(np.multiply(args.scale, median))
+    for width, n in [(w, n) for w in widths for n in args.rows]:
         if n > len(x):
-            print(f"{n:>6} n/a (only {len(x)} rows)")
+            print(f"{width:>7.4g} {n:>6} n/a (only {len(x)} rows)")
             continue
         fit_rows, val_rows = order[:n], order[n : n + 1000]
         queue = ctx.Queue()
@@ -82,8 +94,8 @@ def main() -> None:
         child.start()
         wall, cpu, peak, n_rv, n_iter, conv, rmse = queue.get()
         child.join()
-        print(f"{n:>6} {wall:>8.1f} {cpu:>8.1f} {peak:>8.0f} {n_rv:>6} {100 * n_rv / n:>6.1f} {n_iter:>6} "
-              f"{str(conv):>5} {rmse:>9.4f}", flush=True)  # fmt: skip
+        print(f"{width:>7.4g} {n:>6} {wall:>8.1f} {cpu:>8.1f} {peak:>8.0f} {n_rv:>6} {100 * n_rv / n:>6.1f} "
+              f"{n_iter:>6} {str(conv):>5} {rmse:>9.4f}", flush=True)  # fmt: skip
 
 
 if __name__ == "__main__":
