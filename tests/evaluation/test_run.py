@@ -69,6 +69,21 @@ def test_width_selection_fits_get_their_own_budget(tmp_path):
 
 
 @pytest.mark.filterwarnings("ignore::voxpose.errors.ConvergenceWarning")
+def test_max_candidates_reaches_the_width_selection_and_the_final_fit(tmp_path):
+    """78 training rows: 20 candidates (plus the chosen candidate fit's relevance vectors in the final fit);
+    null keeps a Gaussian on every row."""
+    from voxpose.evaluation.run import fit
+
+    motions, features = _planted(tmp_path)
+    names = sorted(motions)
+    every = fit(features, motions, names[:2], CFG, seed=0).summary
+    assert every["mvrvm"]["candidates"] == every["train_frames"] == 78
+    summary = fit(features, motions, names[:2], CFG | {"max_candidates": 20}, seed=0).summary
+    assert all(row["n_relevance"] <= 20 for row in summary["width_selection"])
+    assert 20 <= summary["mvrvm"]["candidates"] <= 20 + max(row["n_relevance"] for row in summary["width_selection"])
+
+
+@pytest.mark.filterwarnings("ignore::voxpose.errors.ConvergenceWarning")
 def test_a_saved_fit_tests_exactly_as_the_fitted_one(tmp_path):
     """One fit serves every test set: saved and loaded, it gives the same predictions and errors, every method."""
     from voxpose.evaluation.run import Fit, fit

@@ -217,6 +217,7 @@ def test_select_kernel_width_uses_held_out_rows():
         ({"kernel": "linear"}, np.eye(5), np.zeros(5), "unknown kernel"),
         ({"max_iter": 0}, np.eye(5), np.zeros(5), "max_iter"),
         ({"tol": -1.0}, np.eye(5), np.zeros(5), "tol"),
+        ({"max_candidates": 0}, np.eye(5), np.zeros(5), "max_candidates"),
         ({}, np.ones((5, 2)), np.zeros(5), "identical"),
     ],
 )
@@ -286,3 +287,53 @@ def test_constructor_is_keyword_only_after_the_kernel_width():
     assert MVRVM(1.5).fit(x, y).kernel_width_ == 1.5
     with pytest.raises(TypeError):
         MVRVM(1.5, "rbf")
+
+
+# --- candidate subsets (max_candidates) --------------------------------------------------------------------------
+
+
+def test_candidates_covering_every_row_are_eq3(toy_fit):
+    x, y, _, model = toy_fit
+    for m in (len(x), 10 * len(x)):
+        covered = MVRVM(kernel_width=1.5, max_candidates=m).fit(x, y)
+        assert np.array_equal(covered.relevance_, model.relevance_)
+        assert np.array_equal(covered.coef_, model.coef_) and np.array_equal(covered.beta_, model.beta_)
+
+
+def test_candidate_subset_fit_is_exact_on_every_row(toy_fit):
+    """Gaussians on 60 random rows only, the likelihood over all 200: the final log ML is the brute-force one
+    on all rows, the relevance vectors come from the drawn rows, and the functions are still recovered."""
+    x, y, clean, _ = toy_fit
+    model = MVRVM(kernel_width=1.5, max_candidates=60, random_state=4).fit(x, y)
+    drawn = np.random.default_rng(4).choice(len(x), size=60, replace=False)
+    assert model.converged_ and set(model.relevance_) <= set(drawn)
+    brute = mvrvm_log_ml(fitted_basis(model, x), y, model.alpha_, model.beta_)
+    assert model.log_marginal_likelihood_[-1] == pytest.approx(brute, rel=1e-9)
+    assert np.all(np.abs(1 / np.sqrt(model.beta_) - 0.1) < 0.02)
+    assert np.all(np.sqrt(np.mean((model.predict(x) - clean) ** 2, axis=0)) < 0.1)
+
+
+def test_candidate_subset_recovers_planted_relevance_vectors():
+    """Targets made of 4 Gaussians centred on drawn candidate rows, plus noise: those 4 rows are kept with
+    their weights; the few others the noise buys carry almost nothing."""
+    rng = np.random.default_rng(0)
+    x = rng.uniform(-6, 6, size=(400, 2))
+    drawn = np.random.default_rng(1).choice(len(x), size=80, replace=False)
+    planted = drawn[[0, 1, 2, 3]]
+    planted = planted[np.argsort(planted)]
+    weights = np.array([[2.0, -1.0], [-1.5, 2.0], [1.0, 1.0], [2.5, -2.0]])
+    y = gaussian_kernel(x, x[planted], 1.0) @ weights + 0.05 * rng.standard_normal((len(x), 2))
+    model = MVRVM(kernel_width=1.0, max_candidates=80, random_state=1).fit(x, y)
+    assert model.converged_
+    assert set(planted) <= set(model.relevance_) and len(model.relevance_) <= 16
+    at = np.searchsorted(model.relevance_, planted) + model.has_bias_
+    assert np.allclose(model.coef_[at], weights, atol=0.05)
+    assert np.max(np.abs(np.delete(model.coef_, at, axis=0))) < 0.05
+    assert np.all(np.abs(1 / np.sqrt(model.beta_) - 0.05) < 0.01)
+
+
+def test_candidate_subset_keeps_a_warm_start_relevance_vectors(toy_fit):
+    x, y, _, model = toy_fit
+    warm = MVRVM(kernel_width=1.5, max_candidates=20, random_state=0).fit(x, y, start=(model, np.arange(len(x))))
+    assert warm.log_marginal_likelihood_[0] == pytest.approx(model.log_marginal_likelihood_[-1], rel=1e-9)
+    assert warm.log_marginal_likelihood_[-1] >= model.log_marginal_likelihood_[-1] - 1e-6

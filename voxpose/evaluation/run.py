@@ -214,7 +214,7 @@ def fit(features: dict, motions: dict, train: list, cfg: dict, seed: int) -> Fit
     z_train = pca.transform(y_train)
     log.info("pose PCA: M = %d components keep %.1f %% of the variance (Eq. 1)", pca.n_components_,
              100 * pca.explained_variance_ratio_.sum())  # fmt: skip
-    mvrvm_params = {"max_iter": cfg["max_iter"], "tol": cfg["tol"]}
+    mvrvm_params = {"max_iter": cfg["max_iter"], "tol": cfg["tol"], "max_candidates": cfg.get("max_candidates")}
     width_table = start = None
     width = cfg["kernel_width"]
     if width == "auto":
@@ -222,8 +222,8 @@ def fit(features: dict, motions: dict, train: list, cfg: dict, seed: int) -> Fit
         # starts from the chosen candidate (MVRVM._warm_start)
         budget = min(cfg["max_iter"], cfg.get("selection_max_iter") or cfg["max_iter"])
         width, width_table, start = select_kernel_width(x_train, z_train, scales=cfg["width_scales"],
-                                                        groups=groups, random_state=seed, max_iter=budget,
-                                                        tol=cfg["tol"])  # fmt: skip
+                                                        groups=groups, random_state=seed, **mvrvm_params
+                                                        | {"max_iter": budget})  # fmt: skip
     model = MVRVM(kernel_width=width, random_state=seed, **mvrvm_params).fit(x_train, z_train, start=start)
     log.info("MVRVM: kernel width %.4g, %d of %d relevance vectors, converged %s after %d iterations",
              model.kernel_width_, len(model.relevance_), len(x_train), model.converged_, model.n_iter_)  # fmt: skip
@@ -244,6 +244,7 @@ def fit(features: dict, motions: dict, train: list, cfg: dict, seed: int) -> Fit
         "mvrvm": {
             "n_iter": int(model.n_iter_),
             "converged": bool(model.converged_),
+            "candidates": int(model.n_candidates_),
             "noise_std": (1 / np.sqrt(model.beta_)).tolist(),
         },  # fmt: skip
     }

@@ -35,6 +35,14 @@ and otherwise when the re-estimate would change some ``log beta_p`` by more than
 ``max(beta_update_every, k / P)`` iterations (``k`` active basis functions): a re-estimate needs a full
 recomputation, which costs about as much as ``k / P`` moves.
 
+Candidate subsets (``max_candidates``; the only departure from Eq. 3, off by default): Eq. 3 centres one
+Gaussian on every training row, so the design matrix is N x N and every addition costs O(N^2); on a real
+library (10^4 rows) that is gigabytes and hours. With ``max_candidates = M < N`` the Gaussians are centred
+on M rows drawn at random (seeded by ``random_state``; plus a warm start's relevance vectors) while the
+likelihood still sums over all N rows: the design matrix is N x M, the basis functions are a random
+subset of Eq. 3's, and the model is the same MVRVM on fewer candidate relevance vectors. With ``M >= N``
+(or None) it is exactly Eq. 3.
+
 A candidate almost collinear with an active basis function (cosine above ``alignment_max``) is not added,
 as in SparseBayes, whose control settings (initial noise at 10 % of the target standard deviation,
 MinDeltaLogAlpha, MinDeltaLogBeta, BetaMaxFactor, AlignmentMax, 10 initial noise updates) are the defaults
@@ -81,7 +89,10 @@ class MVRVM:
         iterations between checks of the noise re-estimate; checks are ``max(beta_update_every, k / P)``
         iterations apart for ``k`` active basis functions.
     alignment_max : cosine above which a candidate counts as collinear with an active basis function.
-    random_state : seed for the row subset of the median distance when there are more than 2000 rows.
+    max_candidates : at most this many training rows carry a candidate Gaussian (drawn at random); None:
+        every row (Eq. 3). See the module docstring.
+    random_state : seed for the row subset of the median distance when there are more than 2000 rows, and
+        for the candidate rows.
 
     Attributes
     ----------
@@ -97,6 +108,7 @@ class MVRVM:
     kernel_width_ : the width used.
     log_marginal_likelihood_ : (n_iter_ + 1,) log marginal likelihood, initially and after each iteration.
     n_iter_ : iterations run.
+    n_candidates_ : training rows that carried a candidate Gaussian (all of them unless ``max_candidates``).
     converged_ : whether the convergence criterion was met before ``max_iter``.
     """
 
@@ -112,6 +124,7 @@ class MVRVM:
         beta_max: float = 1e6,
         beta_update_every: int = 10,
         alignment_max: float = 0.999,
+        max_candidates: int | None = None,
         random_state=None,
     ):
         self.kernel = kernel
@@ -123,6 +136,7 @@ class MVRVM:
         self.beta_max = beta_max
         self.beta_update_every = beta_update_every
         self.alignment_max = alignment_max
+        self.max_candidates = max_candidates
         self.random_state = random_state
 
     def _check_params(self) -> None:
@@ -134,6 +148,8 @@ class MVRVM:
             integer(getattr(self, name), f"MVRVM: {name}")
         for name in ("tol", "tol_beta", "beta_max", "alignment_max"):
             positive_number(getattr(self, name), f"MVRVM: {name}")
+        if self.max_candidates is not None:
+            integer(self.max_candidates, "MVRVM: max_candidates")
         if self.alignment_max > 1:
             raise VoxposeError(f"MVRVM: alignment_max is a cosine, at most 1, got {self.alignment_max!r}")
 
@@ -157,7 +173,8 @@ class MVRVM:
             self.kernel_width_ = median_pairwise_distance(x, random_state=self.random_state)
         else:
             self.kernel_width_ = positive_number(self.kernel_width, "MVRVM: kernel width")
-        phi = design_matrix(x, x, self.kernel_width_, self.bias)
+        self._centres = self._candidate_rows(x.shape[0], start)
+        phi = design_matrix(x, x[self._centres], self.kernel_width_, self.bias)
         var = y.var(axis=0)
         scale = np.where(var > 0, var, np.where(np.mean(y * y, axis=0) > 0, np.mean(y * y, axis=0), 1.0))
         cap = self.beta_max / scale
@@ -217,6 +234,16 @@ class MVRVM:
         )
         return self
 
+    def _candidate_rows(self, n: int, start) -> np.ndarray:
+        """Sorted training rows that carry a candidate Gaussian: all ``n``, or ``max_candidates`` drawn at random
+        (``random_state``) together with the relevance vectors of a warm ``start``."""
+        if self.max_candidates is None or self.max_candidates >= n:
+            return np.arange(n)
+        drawn = np.random.default_rng(self.random_state).choice(n, size=self.max_candidates, replace=False)
+        if start is not None:
+            drawn = np.concatenate([drawn, np.asarray(start[1])[start[0].relevance_]])
+        return np.unique(drawn)
+
     def _warm_start(self, post: Posterior, model: "MVRVM", rows, cap: np.ndarray) -> float:
         """Activate ``model``'s basis functions (rows ``rows[model.relevance_]`` of this fit, and the bias if it
         kept one) at its precisions, with its noise; returns the log marginal likelihood.
@@ -233,7 +260,7 @@ class MVRVM:
         """
         if model.kernel_width_ != self.kernel_width_ or model.coef_.shape[1] != post.p:
             raise VoxposeError("MVRVM: a warm start needs a model of the same kernel width and outputs")
-        basis = np.asarray(rows)[model.relevance_] + int(self.bias)
+        basis = np.searchsorted(self._centres, np.asarray(rows)[model.relevance_]) + int(self.bias)
         if model.has_bias_:
             basis = np.concatenate([[0], basis]) if self.bias else basis
         post.beta = np.minimum(model.beta_, cap)
@@ -330,8 +357,9 @@ class MVRVM:
         order = np.argsort(basis)
         basis = basis[order]
         self.has_bias_ = bool(self.bias and basis.size and basis[0] == 0)
-        self.relevance_ = basis[int(self.has_bias_) :] - int(self.bias)
+        self.relevance_ = self._centres[basis[int(self.has_bias_) :] - int(self.bias)]
         self.relevance_vectors_ = x[self.relevance_]
+        self.n_candidates_ = self._centres.size
         self.coef_ = post.mu[:, : basis.size][:, order].T.copy()
         self.alpha_ = post.alpha[basis]
         self.beta_ = post.beta.copy()
