@@ -25,8 +25,12 @@ def planted_run(directory, offsets: dict, names, frames=30, seed=0):
     for name in names:
         true = rng.uniform(-40, 40, (frames, 42))
         true[:, WRIST] = 5.0  # still: predicted exactly
-        entry = {"true": true, "valid": np.ones(frames, bool), "offsets": np.zeros((14, 3)),
-                 "root_positions": np.zeros((frames, 3))}  # fmt: skip
+        entry = {
+            "true": true,
+            "valid": np.ones(frames, bool),
+            "offsets": np.zeros((14, 3)),
+            "root_positions": np.zeros((frames, 3)),
+        }
         for m, off in offsets.items():
             pred = true + off
             pred[:, WRIST] = 5.0
@@ -38,8 +42,14 @@ def planted_run(directory, offsets: dict, names, frames=30, seed=0):
     summary = {"test_frames": total, "n_relevance": 10, "train_frames": 100, "pose_dims": 5, "methods": {}}
     for m, off in offsets.items():
         full = off * 36 / 42
-        summary["methods"][m] = {"full_body": full, "heading": off, "left_shoulder": off, "right_hip": off,
-                                 "position_mm": 1.0, "per_kind": {k: {"full_body": full} for k in KINDS}}  # fmt: skip
+        summary["methods"][m] = {
+            "full_body": full,
+            "heading": off,
+            "left_shoulder": off,
+            "right_hip": off,
+            "position_mm": 1.0,
+            "per_kind": {k: {"full_body": full} for k in KINDS},
+        }
     (directory / "summary.json").write_text(json.dumps(summary))
     return [str(directory / "summary.json"), str(directory / "predictions.h5")]
 
@@ -55,13 +65,71 @@ def tables(tmp_path_factory):
     t2 = planted_run(d / "t2", {"mvrvm": 2.0, "mean_pose": 8.0}, five)
     out = tmp_path_factory.mktemp("tables")
     boot = ["--bootstrap", "200", "--seed", "3"]
-    assert main(["table1", "--ours", *ours, "--kmeans", *kmeans, "--at-one", *at_one, *boot, "--csv",
-                 str(out / "table1.csv"), "--md", str(out / "table1.md"), "--html", str(out / "table1.html")]) == 0  # fmt: skip
-    assert main(["table2", "--run", *t2, *boot, "--csv", str(out / "table2.csv"), "--md", str(out / "table2.md"),
-                 "--html", str(out / "table2.html")]) == 0  # fmt: skip
-    assert main(["paper-claims", "--run", "table1_mppca", ours[1], "--run", "table1_kmeans", kmeans[1], "--run",
-                 "table1_at_one", at_one[1], "--run", "table2_mppca", t2[1], "--data-set", "planted", *boot,
-                 "--csv", str(out / "claims.csv"), "--html", str(out / "claims.html")]) == 0  # fmt: skip
+    assert (
+        main(
+            [
+                "table1",
+                "--ours",
+                *ours,
+                "--kmeans",
+                *kmeans,
+                "--at-one",
+                *at_one,
+                *boot,
+                "--csv",
+                str(out / "table1.csv"),
+                "--md",
+                str(out / "table1.md"),
+                "--html",
+                str(out / "table1.html"),
+            ]
+        )
+        == 0
+    )
+    assert (
+        main(
+            [
+                "table2",
+                "--run",
+                *t2,
+                *boot,
+                "--csv",
+                str(out / "table2.csv"),
+                "--md",
+                str(out / "table2.md"),
+                "--html",
+                str(out / "table2.html"),
+            ]
+        )
+        == 0
+    )
+    assert (
+        main(
+            [
+                "paper-claims",
+                "--run",
+                "table1_mppca",
+                ours[1],
+                "--run",
+                "table1_kmeans",
+                kmeans[1],
+                "--run",
+                "table1_at_one",
+                at_one[1],
+                "--run",
+                "table2_mppca",
+                t2[1],
+                "--data-set",
+                "planted",
+                *boot,
+                "--csv",
+                str(out / "claims.csv"),
+                "--html",
+                str(out / "claims.html"),
+            ]
+        )
+        == 0
+    )
     return out
 
 

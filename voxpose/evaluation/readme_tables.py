@@ -128,13 +128,41 @@ def claims_markdown(df: pd.DataFrame) -> list[str]:
     return lines
 
 
+def plain_markdown(df: pd.DataFrame, title: str, digits: int = 2) -> list[str]:
+    """Any table as Markdown, numbers with ``digits`` decimals, under a bold title line."""
+
+    def fmt(v):
+        if isinstance(v, float):
+            return "" if v != v else f"{v:.{digits}f}"
+        return str(v)
+
+    return [
+        f"**{title}**",
+        "",
+        _line(map(str, df.columns)),
+        "|" + "---|" * len(df.columns),
+        *(_line(map(fmt, row)) for row in df.itertuples(index=False)),
+    ]
+
+
+# Further tables of the run, shown when present: file, title.
+EXTRA = (
+    ("figure4.csv", "Figure 4: validation error per setting (degrees)"),
+    ("camera_rigs.csv", "Claims: the regressor on other camera rigs (degrees)"),
+    ("robustness.csv", "Claims: degraded silhouettes (degrees)"),
+)
+
+
 def markdown(tables_dir) -> str:
-    """Table 1, Table 2 and the claims as Markdown, from ``tables_dir``'s table1.csv, table2.csv, claims.csv."""
+    """Table 1, Table 2 and the claims as Markdown, from ``tables_dir``'s table1.csv, table2.csv, claims.csv,
+    then Figure 4's and the measured claims' tables where present."""
     d = Path(tables_dir)
+    extra = [plain_markdown(read_csv(d / name), title) for name, title in EXTRA if (d / name).exists()]
     parts = [
         table1_markdown(read_csv(d / "table1.csv")),
         table2_markdown(read_csv(d / "table2.csv")),
         claims_markdown(read_csv(d / "claims.csv")),
+        *extra,
     ]
     return "\n\n".join("\n".join(p) for p in parts)
 
@@ -153,5 +181,7 @@ def replace_block(readme_text: str, generated: str, path="README.md") -> str:
 
 
 def normalised(text: str) -> str:
-    """Every number replaced by ``N``: the format of a block, whatever run made it."""
-    return re.sub(r"-?\d+(\.\d+)?(e-?\d+)?", "N", text)
+    """Every number replaced by ``N`` and repeated lines kept once: the format of a block, whatever run made it
+    (a sweep of more values repeats a line)."""
+    lines = re.sub(r"-?\d+(\.\d+)?(e-?\d+)?", "N", text).splitlines()
+    return "\n".join(line for i, line in enumerate(lines) if i == 0 or line != lines[i - 1])
