@@ -13,6 +13,7 @@ from voxpose.io.hdf5 import write_per_motion
 from voxpose.motion import canon
 
 KINDS = ("walk", "drunk", "spiral", "jog", "jump")
+EXPERIMENT = ("mvrvm", "nearest_neighbour", "kernel_ridge", "mean_pose")
 WRIST = [i for i, n in enumerate(canon.ANGLE_NAMES) if "wrist" in n]
 
 
@@ -184,3 +185,17 @@ def test_readme_without_markers_is_a_one_line_error(tmp_path, tables, capsys):
     readme.write_text("no markers\n")
     assert main(["readme-tables", "--tables", str(tables), "--readme", str(readme)]) == 2
     assert "README.md: expected one" in capsys.readouterr().err and readme.read_text() == "no markers\n"
+
+
+def test_generalisation_rows_get_intervals_from_their_own_predictions(tmp_path):
+    from voxpose.evaluation.generalisation import with_intervals
+
+    names = ["walk_a", "jog_a"]
+    mppca = planted_run(tmp_path / "m", {m: 1.0 + i for i, m in enumerate(EXPERIMENT)}, names)
+    kmeans = planted_run(tmp_path / "k", {"mvrvm": 7.0}, names)
+    df = pd.DataFrame({"held_out": "a", "method": ["mvrvm", "kmeans", "mean_pose"], "full_body": 0.0})
+    out = with_intervals(df, {"a": (mppca[1], kmeans[1])}, 100, 0).set_index("method")
+    # constant planted errors: the interval is the value itself, 36 of 42 angles move
+    assert out.loc["kmeans", "full_body_low"] == pytest.approx(7 * 36 / 42)
+    assert out.loc["mean_pose", "full_body_varying"] == pytest.approx(1.0 + EXPERIMENT.index("mean_pose"))
+    assert (out["varying_angles"] == 36).all()

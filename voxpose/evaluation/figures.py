@@ -90,7 +90,8 @@ def figure4(table: pd.DataFrame):
             choice = labels.index(choice) if choice in labels else None
         if choice is not None:
             ax.axvline(choice, color="C3", lw=1.5, ls=":", label="paper's choice")
-        ax.text(0.02, 0.97, PAPER_STATEMENT[sweep], transform=ax.transAxes, va="top", fontsize=FONT - 1, color="C3")
+        ax.text(0.02, 0.97, PAPER_STATEMENT[sweep], transform=ax.transAxes, va="top", fontsize=FONT - 1, color="C3",
+                bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.85})
         ax.set_title(SWEEP_TITLES[sweep][0].upper() + SWEEP_TITLES[sweep][1:], fontsize=FONT + 1)
         ax.set_xlabel(SWEEP_TITLES[sweep], fontsize=FONT)
         ax.set_ylabel("validation error (deg, Eq. 6)", fontsize=FONT)

@@ -271,5 +271,6 @@ def final_targets():
     artifacts = [path for exps, paths in needs if set(exps) <= set(EXPERIMENTS) for path in paths]
     artifacts += [f"results/tables/experiments/{exp}.csv" for exp in EXPERIMENTS]
     if HELD_OUT:
-        artifacts += ["results/tables/generalisation.csv", "results/figures/generalisation.png"]
+        artifacts += ["results/tables/generalisation.csv", "results/tables/generalisation.html",
+                      "results/figures/generalisation.png"]
     return artifacts + [f"results/motions/{motion}.h5" for motion in MOTIONS]

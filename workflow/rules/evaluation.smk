@@ -142,16 +142,20 @@ rule experiment_table:
 
 rule generalisation_table:
     input:
-        lambda w: [f"{test_dir(held_out(g), DESC, feat)}/summary.json" for g in HELD_OUT for feat in (MPPCA, KMEANS)],
+        lambda w: [f"{test_dir(held_out(g), DESC, feat)}/{name}" for g in HELD_OUT for feat in (MPPCA, KMEANS)
+                   for name in ("summary.json", "predictions.h5")],  # fmt: skip
     output:
         csv=report("results/tables/generalisation.csv", caption="../report/generalisation_table.rst",
                    category="Generalisation"),  # fmt: skip
         md="results/tables/generalisation.md",
         png=report("results/figures/generalisation.png", caption="../report/generalisation.rst",
                    category="Generalisation"),  # fmt: skip
+        html=report("results/tables/generalisation.html", caption="../report/generalisation_table.rst",
+                    category="Generalisation"),  # fmt: skip
     params:
-        runs=arg([[g, *(f"{test_dir(held_out(g), DESC, feat)}/summary.json" for feat in (MPPCA, KMEANS))]
-                  for g in HELD_OUT]),  # fmt: skip
+        boot=bootstrap_args(),
+        runs=arg([[g, *(f"{test_dir(held_out(g), DESC, feat)}/{name}" for name in ("summary.json", "predictions.h5")
+                        for feat in (MPPCA, KMEANS))] for g in HELD_OUT]),  # fmt: skip
         code=code("generalisation-table"),
     log:
         "results/logs/generalisation_table.log",
@@ -161,4 +165,5 @@ rule generalisation_table:
         mem_mb=1000,
         runtime=2,
     shell:
-        "voxpose generalisation-table --runs {params.runs} --csv {output.csv} --md {output.md} --png {output.png} --log {log}"
+        "voxpose generalisation-table --runs {params.runs} {params.boot} --csv {output.csv} --md {output.md}"
+        " --png {output.png} --html {output.html} --log {log}"
