@@ -123,6 +123,8 @@ rule experiment_table:
         csv=report("results/tables/experiments/{exp}.csv", caption="../report/experiment_table.rst",
                    category="Experiments", subcategory="{exp}"),  # fmt: skip
         md="results/tables/experiments/{exp}.md",
+        html=report("results/tables/experiments/{exp}.html", caption="../report/experiment_table.rst",
+                    category="Experiments", subcategory="{exp}"),  # fmt: skip
     params:
         sets=lambda w: " ".join(
             f"--test-set {s} {test_dir(w.exp, DESC, MPPCA, s)}/summary.json {test_dir(w.exp, DESC, KMEANS, s)}/summary.json"
@@ -137,7 +139,8 @@ rule experiment_table:
         mem_mb=500,
         runtime=2,
     shell:
-        "voxpose experiment-table --name {wildcards.exp} {params.sets} --csv {output.csv} --md {output.md} --log {log}"
+        "voxpose experiment-table --name {wildcards.exp} {params.sets} --csv {output.csv} --md {output.md}"
+        " --html {output.html} --log {log}"
 
 
 rule generalisation_table:
