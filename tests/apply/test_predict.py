@@ -11,7 +11,10 @@ import pytest
 from voxpose.apply.model_file import load_model
 from voxpose.apply.outputs import read_record
 from voxpose.cli.main import main
+from voxpose.descriptors.file import read_descriptors
 from voxpose.evaluation import metrics
+from voxpose.features.model import FeatureModel
+from voxpose.features.novelty import frame_scores
 from voxpose.io.bvh import read_bvh
 from voxpose.io.hdf5 import read_per_motion
 from voxpose.motion import canon
@@ -121,6 +124,19 @@ def test_predict_from_voxels_carries_truth_and_renders(trained, tmp_path):
 
     with Image.open(tmp_path / "v.gif") as gif:
         assert gif.n_frames == 4 and gif.format == "GIF"
+
+
+def test_features_and_predict_say_how_far_the_input_lies_from_training(trained, tmp_path):
+    d = trained
+    motions, meta = read_per_motion(d / "features.h5", "features")
+    model = FeatureModel.load(d / "features_model.h5")
+    frames = read_descriptors(d / f"desc_{TEST}.h5")[0]
+    np.testing.assert_allclose(motions[TEST]["novelty"], frame_scores(model.estimator, frames), rtol=1e-12)
+    assert sorted(meta["novelty_by_motion"]) == sorted((*TRAIN, TEST))
+    run("predict", d / "model.h5", "--voxels", d / f"vox_{TEST}.h5", "-o", tmp_path / "v.bvh")
+    found, expected = read_record(tmp_path / "v.h5")[2]["novelty"], meta["novelty_by_motion"][TEST]
+    assert found["warned"] == expected["warned"]
+    np.testing.assert_allclose([found["median"], found["out_of_range"]], [expected["median"], expected["out_of_range"]])
 
 
 def _without_frame(seq, f):

@@ -8,6 +8,7 @@ from voxpose.evaluation.metrics import (
     angle_differences,
     frame_errors,
     full_body_error,
+    heading_by_bin,
     heading_error,
     joint_error,
     per_angle_error,
@@ -84,6 +85,17 @@ def test_heading_and_named_joints():
         "lshoulder_mean",
         "rhip_mean",
     }
+
+
+def test_heading_by_bin_counts_frames_errors_and_flips_per_true_heading():
+    a = np.zeros((5, 42))
+    b = np.zeros((5, 42))
+    a[:, 0] = [10, 20, -10, 359, 95]  # bins 0, 0, 11, 11, 3 of 30 degrees
+    b[:, 0] = [10, 60, 170, 0, 95 + 140]  # errors 0, 40, 180 (a flip), 1, 140 (a flip)
+    rows = heading_by_bin(a, b)
+    assert [(r["from"], r["frames"]) for r in rows] == [(0, 2), (90, 1), (330, 2)]
+    assert [r["rms"] for r in rows] == pytest.approx([np.sqrt(1600 / 2), 140, np.sqrt((180**2 + 1) / 2)])
+    assert [r["flips"] for r in rows] == [0.0, 1.0, 0.5]
 
 
 def test_position_error_of_a_heading_error():

@@ -77,6 +77,7 @@ def test_one_run_mixes_cmu_bandai_and_a_family_mapped_by_one_override_entry(work
     assert [n.split(":")[1].strip() for n in notes if "bvh_experiments" in n] == [
         "bvh_experiments.table2",
         "bvh_experiments.figure4",
+        "bvh_experiments.broad",
     ]
     assert sum(n.startswith("voxpose: derived: skipped") for n in notes) == 1
 
@@ -88,10 +89,10 @@ def test_a_users_own_folder_runs_as_written(workdir, tmp_path):
     stdout, stderr = dry_run(workdir, {"bvh_dir": str(tmp_path)})
     assert sorted(motion_params(stdout)) == sorted(names)  # every motion is loaded
     notes = [line for line in stderr.splitlines() if line.startswith("voxpose: ")]
-    assert len(notes) == 5, notes  # the derived walks, each shipped experiment, the held-out groups: one line each
+    assert len(notes) == 6, notes  # the derived walks, each shipped experiment, the held-out groups: one line each
     assert notes[0].startswith("voxpose: derived: skipped 38 of 38 derived motions whose source is not in bvh_dir:")
-    assert notes[4].startswith("voxpose: bvh_generalisation: skipped 9 groups with no motion")  # no CMU or Bandai file
-    for note, name in zip(notes[1:4], ("table1", "table2", "figure4"), strict=True):
+    assert notes[5].startswith("voxpose: bvh_generalisation: skipped 9 groups with no motion")  # no CMU or Bandai file
+    for note, name in zip(notes[1:5], ("table1", "table2", "figure4", "broad"), strict=True):
         assert note.startswith(f"voxpose: bvh_experiments.{name}: skipped, no training or no test motion")
     # the user's own experiment keeps the strict rules: a pattern that matches nothing is an error
     own = {"bvh_dir": str(tmp_path), "bvh_experiments": {"table1": {"train": ["walk_*"], "test": ["spiral_*"]}}}

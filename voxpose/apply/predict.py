@@ -57,6 +57,7 @@ class Prediction:
     fps : frame rate written to the BVH.
     true_angles : (F, 42) ground truth when the input carries it, else None.
     smooth : the temporal smoothing applied (Gaussian sigma in frames; 0: none).
+    novelty : how far the input lies from the training data (features/novelty.py), None without a range.
     """
 
     angles: np.ndarray
@@ -67,6 +68,7 @@ class Prediction:
     fps: float
     true_angles: np.ndarray | None = None
     smooth: float = 0.0
+    novelty: dict | None = None
 
     def world_root(self) -> np.ndarray:
         """(F, 3) root positions in the recording's world frame: the voxel frame minus the ``shifts``."""
@@ -140,11 +142,14 @@ def smooth_angles(angles: np.ndarray, valid: np.ndarray, sigma: float) -> np.nda
 
 
 def predict_voxels(model: PoseModel, seq: VoxelSequence, *, frames=None, fps=None, true_angles=None,
-                   smooth: float = 0.0) -> Prediction:  # fmt: skip
-    """Estimate every frame of a voxel sequence (module docstring)."""
+                   smooth: float = 0.0, name: str = "input") -> Prediction:  # fmt: skip
+    """Estimate every frame of a voxel sequence (module docstring); ``name`` names it in the warning logged
+    when it lies far outside the training data."""
     if smooth < 0:
         raise VoxposeError(f"predict: smoothing must be >= 0 frames, got {smooth}")
-    features, counts = featurise(model, describe(model, seq))
+    descriptors = describe(model, seq)
+    features, counts = featurise(model, descriptors)
+    novelty = model.features.novelty(name, descriptors)[1]
     valid = counts > 0
     if not valid.any():
         raise VoxposeError("predict: no frame has a non-empty visual hull")
@@ -157,7 +162,8 @@ def predict_voxels(model: PoseModel, seq: VoxelSequence, *, frames=None, fps=Non
     if true_angles is not None and np.shape(true_angles) != angles.shape:
         raise VoxposeError(f"predict: true angles have shape {np.shape(true_angles)}, expected {angles.shape}")
     return Prediction(angles=angles, valid=valid, root=hull_centroids(seq), voxels=seq, frames=frames,
-                      fps=float(fps or model.fps), true_angles=true_angles, smooth=float(smooth))  # fmt: skip
+                      fps=float(fps or model.fps), true_angles=true_angles, smooth=float(smooth),
+                      novelty=novelty)  # fmt: skip
 
 
 def bvh_channels(prediction: Prediction) -> tuple[np.ndarray, np.ndarray]:

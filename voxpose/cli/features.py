@@ -22,10 +22,16 @@ def run(args):
     from voxpose.io.hdf5 import write_per_motion
 
     model = FeatureModel.load(args.model)
-    motions = {}
+    motions, novelty = {}, {}
     for path in args.descriptors:
         frames, _, meta = read_descriptors(path)
         features, counts = model.transform_frames(frames)
         motions[meta["motion"]] = {"features": features, "counts": counts}
+        scores, novelty[meta["motion"]] = model.novelty(meta["motion"], frames)
+        if scores is not None:
+            motions[meta["motion"]]["novelty"] = scores
         log.info("features %s: %d frames, %d gaps", meta["motion"], len(frames), int((counts == 0).sum()))
-    write_per_motion(args.output, "features", motions, {"method": model.method, "model": model.meta})
+    meta = {"method": model.method, "model": model.meta}
+    if "novelty" in model.meta:
+        meta["novelty_by_motion"] = novelty
+    write_per_motion(args.output, "features", motions, meta)

@@ -20,6 +20,7 @@ def run(args):
     from voxpose.descriptors.file import read_descriptors
     from voxpose.features.model import FeatureModel
 
-    rows = [d for path in args.descriptors for d in read_descriptors(path)[0] if len(d)]
-    model = FeatureModel.fit(args.method, np.concatenate(rows), parse_params(args.params), args.seed)
+    frames = [d for path in args.descriptors for d in read_descriptors(path)[0]]
+    rows = np.concatenate([d for d in frames if len(d)])
+    model = FeatureModel.fit(args.method, rows, parse_params(args.params), args.seed).with_novelty_range(frames)
     model.save(args.output)

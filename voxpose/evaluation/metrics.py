@@ -115,3 +115,22 @@ def table_errors(y_true, y_pred, offsets=None) -> dict:
     if offsets is not None:
         out["position_mm"] = float(position_errors_mm(y_true, y_pred, offsets).mean())
     return out
+
+
+FLIP_DEGREES = 135.0
+
+
+def heading_by_bin(y_true, y_pred, width: float = 30.0) -> list[dict]:
+    """The heading error per bin of the true heading: [{"from", "to", "frames", "rms", "flips"}], bins of
+    ``width`` degrees from 0; ``flips`` is the fraction of the bin's frames whose wrapped heading error exceeds
+    ``FLIP_DEGREES`` (a front/back confusion). Bins without frames are left out."""
+    a, b = _pair(y_true, y_pred, canon.N_ANGLES)
+    heading = canon.ANGLE_NAMES.index("root_y")
+    error = angle_differences(a[:, [heading]], b[:, [heading]])[:, 0]
+    bins = np.floor(np.mod(a[:, heading], 360.0) / width).astype(int)
+    rows = []
+    for k in np.unique(bins):
+        e = error[bins == k]
+        rows.append({"from": float(k * width), "to": float((k + 1) * width), "frames": int(e.size),
+                     "rms": float(np.sqrt(np.mean(e**2))), "flips": float(np.mean(e > FLIP_DEGREES))})  # fmt: skip
+    return rows

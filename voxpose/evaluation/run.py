@@ -76,6 +76,7 @@ def _errors(true, pred, offsets_per_frame, kinds) -> dict:
     out["position_mm"] = float(position.mean())
     out["per_joint"] = dict(zip(canon.JOINTS, metrics.per_joint_error(true, pred).tolist(), strict=True))
     out["per_angle"] = dict(zip(canon.ANGLE_NAMES, metrics.per_angle_error(true, pred).tolist(), strict=True))
+    out["heading_by_bin"] = metrics.heading_by_bin(true, pred)
     out["per_kind"] = {
         kind: {
             "full_body": metrics.full_body_error(true[kinds == kind], pred[kinds == kind]),

@@ -14,6 +14,7 @@ from voxpose.errors import VoxposeError
 from voxpose.features.frame import SoftVoteRule, kmeans_features, mppca_features
 from voxpose.features.kmeans import KMeans
 from voxpose.features.mppca import MPPCA
+from voxpose.features.novelty import NoveltyRange, frame_scores
 from voxpose.io.hdf5 import read_arrays, write_arrays
 
 log = logging.getLogger(__name__)
@@ -65,6 +66,21 @@ class FeatureModel:
             model = KMeans(cfg["n_components"], max_iter=cfg["max_iter"], random_state=seed).fit(rows)
             rule = SoftVoteRule.from_training(model.cluster_centers_, rows, n_nearest=cfg["kmeans_neighbours"])
         return cls(method, model, rule, meta | model.to_arrays()[1])
+
+    def with_novelty_range(self, frames: list) -> "FeatureModel":
+        """Record the training frames' novelty range (MPPCA only: K-means has no density); ``frames`` is the
+        list of the training frames' (B_f, bins) descriptors (features/novelty.py)."""
+        if self.method == "mppca":
+            self.meta = self.meta | {"novelty": NoveltyRange.from_training(self.estimator, frames).to_dict()}
+        return self
+
+    def novelty(self, motion: str, frames: list) -> tuple[np.ndarray | None, dict | None]:
+        """(per-frame novelty scores, the motion's summary) against the training range, logging a warning
+        when the motion lies outside it; (None, None) for a model without a range."""
+        if "novelty" not in self.meta:
+            return None, None
+        scores = frame_scores(self.estimator, frames)
+        return scores, NoveltyRange(**self.meta["novelty"]).check(motion, scores)
 
     def transform(self, descriptors: np.ndarray, frame_index: np.ndarray, n_frames: int):
         """-> (features (n_frames, K), counts (n_frames,)); frames without descriptors get NaN rows."""
