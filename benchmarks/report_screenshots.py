@@ -84,7 +84,8 @@ def main() -> None:
     for i, name in enumerate(RESULTS, 1):
         script = _OPEN.replace("NAME", json.dumps(name))
         page = args.out / f"open_{name}.html"
-        page.write_text(text.replace("</body>", script + "</body>"))
+        at = text.rindex("</body>")  # the last one: the report's scripts hold the string too
+        page.write_text(text[:at] + script + text[at:])
         png = args.out / f"{i:02d}_{name.replace('.', '_')}.png"
         shoot(page, png, args.width, args.height)
         page.unlink()

@@ -164,7 +164,8 @@ def test_table2_per_type_with_intervals_and_mean_pose(tables):
 
 def test_claim_verdicts_follow_the_planted_errors(tables):
     claims = pd.read_csv(tables / "claims.csv").set_index(["claim", "comparison"])["verdict"]
-    assert claims[("MPPCA features beat K-means (Table 1)", "MPPCA + MVRVM vs K-means + MVRVM")] == "held"
+    kmeans = ("MPPCA features beat K-means (Table 1; also on Table 2)", "MPPCA + MVRVM vs K-means + MVRVM")
+    assert claims[kmeans] == "held"
     assert claims[("ours beats Agarwal & Triggs (Table 1)", "MPPCA + MVRVM vs A&T-style, 1 camera")] == "reversed"
     assert (claims.xs("one regressor serves five motion types (Table 2)") == "held").all()
     assert "reversed" in (tables / "claims.html").read_text()

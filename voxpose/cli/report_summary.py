@@ -1,7 +1,5 @@
 """``voxpose report-summary``: the report's first page (Tables 1 and 2, Figure 4, the claims, the run)."""
 
-from voxpose.cli.common import parse_params
-
 NAME = "report-summary"
 HELP = "the report's summary page: the paper's tables and Figure 4 beside ours, claims, configuration, versions"
 
@@ -10,7 +8,7 @@ def add_arguments(p):
     for name in ("table1", "table2", "figure4", "claims"):
         p.add_argument(f"--{name}", required=True, help=f"{name}.csv")
     p.add_argument("--figure4-png", required=True)
-    p.add_argument("--config", required=True, help="the run's configuration as JSON (hashed on the page)")
+    p.add_argument("--config-hash", required=True, help="the run's configuration hash (run_info.config_hash)")
     p.add_argument("--data-set", required=True, help="what the motions are")
     p.add_argument("--logs", default="results/logs", help="the job logs (the wall time starts at the oldest)")
     p.add_argument("--bootstrap", type=int, default=1000, help="replicates the tables' intervals used")
@@ -35,7 +33,7 @@ def run(args):
         figure4_png=args.figure4_png,
         claims=claims,
         verdicts=overall(claims) if len(claims) else pd.DataFrame(),
-        config=parse_params(args.config, "--config"),
+        config_hash=args.config_hash,
         data_set=args.data_set,
         log_dir=args.logs,
         repo=Path.cwd(),

@@ -44,11 +44,11 @@ def _label(sweep, value) -> str:
     return f"{float(value):.3f} h_sub" if sweep == "r_max" else str(value)
 
 
-def _run_table(config: dict, data_set: str, log_dir, repo) -> pd.DataFrame:
+def _run_table(config_hash: str, data_set: str, log_dir, repo) -> pd.DataFrame:
     seconds = run_info.wall_time_s(log_dir)
     rows = {
         "data set": data_set,
-        "configuration hash (SHA-256 of the config, sorted keys)": run_info.config_hash(config),
+        "configuration hash (SHA-256 of the config, sorted keys)": config_hash,
         "commit": run_info.commit(repo),
         "wall time (first job's log to this page)": f"{seconds / 60:.1f} min" if seconds == seconds else "unknown",
     }
@@ -65,7 +65,7 @@ def summary_page(
     figure4_png,
     claims: pd.DataFrame,
     verdicts: pd.DataFrame,
-    config: dict,
+    config_hash: str,
     data_set: str,
     log_dir,
     repo,
@@ -93,6 +93,6 @@ def summary_page(
         html.table(verdicts, cell_classes={"verdict": [v.replace(" ", "") for v in verdicts["verdict"]]}),
         html.caption(table_pages.claims_caption(claims, n_boot)),
         "<h2>This run</h2>",
-        html.table(_run_table(config, data_set, log_dir, repo)),
+        html.table(_run_table(config_hash, data_set, log_dir, repo)),
     ]
     html.write_page(path, "Summary: the paper's tables and Figure 4, ours beside the paper's", "\n".join(body))

@@ -76,7 +76,7 @@ def table2_rows(df: pd.DataFrame) -> pd.DataFrame:
                 "paper": html.cell(float(paper[col])),
                 "difference (voxpose - paper)": html.cell(float(ours[col] - paper[col])),
                 "mean pose": html.cell(float(ours.get(f"{col} mean pose", float("nan")))),
-                "test frames": html.cell(ours.get(f"{col} frames", "")),
+                "test frames": html.cell(int(ours[f"{col} frames"])) if f"{col} frames" in ours else "",
             }
         )
     if "full body" in ours:
@@ -166,7 +166,7 @@ def claims_rows(df: pd.DataFrame) -> tuple[pd.DataFrame, dict]:
     CSS classes)."""
     rows = pd.DataFrame(
         {
-            "claim": df["claim"],
+            "claim": [c if i == 0 or c != df["claim"].iloc[i - 1] else "" for i, c in enumerate(df["claim"])],
             "test set": df["test set"],
             "comparison (A vs B)": df["comparison"],
             "frames": df["test frames"].astype(int),
@@ -176,7 +176,7 @@ def claims_rows(df: pd.DataFrame) -> tuple[pd.DataFrame, dict]:
                 html.with_interval(d, lo, hi)
                 for d, lo, hi in zip(df["difference A - B"], df["difference low"], df["difference high"], strict=True)
             ],
-            "p (bootstrap)": [f"{p:.3g}" for p in df["p (paired bootstrap)"]],
+            "p (bootstrap)": [f"{p:.3g}" if p > 0 else "< 0.001" for p in df["p (paired bootstrap)"]],
             "p (Wilcoxon)": [f"{p:.3g}" for p in df["p (Wilcoxon, per frame)"]],
             "verdict": df["verdict"],
         }

@@ -13,6 +13,7 @@ import yaml
 from voxpose import workflow_config as wc
 from voxpose.cli.main import SUBCOMMANDS
 from voxpose.errors import VoxposeError
+from voxpose.evaluation.run_info import config_hash
 from voxpose.import_graph import code_hash
 from voxpose.io.bvh import read_duration
 

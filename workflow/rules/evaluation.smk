@@ -99,7 +99,7 @@ rule report_summary:
         report("results/report/summary.html", caption="../report/summary.rst", category="0 Summary",
                labels={"page": "Tables 1-2, Figure 4, claims, run"}),  # fmt: skip
     params:
-        config=arg(config),
+        config_hash=config_hash(config),
         data=shlex.quote(data_set()),
         boot=config["report"]["bootstrap"],
         code=code("report-summary"),
@@ -112,7 +112,7 @@ rule report_summary:
         runtime=2,
     shell:
         "voxpose report-summary --table1 {input.table1} --table2 {input.table2} --figure4 {input.figure4}"
-        " --figure4-png {input.figure4_png} --claims {input.claims} --config {params.config}"
+        " --figure4-png {input.figure4_png} --claims {input.claims} --config-hash {params.config_hash}"
         " --data-set {params.data} --bootstrap {params.boot} -o {output} --log {log}"
 
 
