@@ -38,7 +38,7 @@ def table1_rows(df: pd.DataFrame) -> tuple[pd.DataFrame, list]:
             for c in _ERRORS
         }
         mean = f"{r[MEAN_POSE]:.1f}" + (f" / {r[MEAN_POSE_VARYING]:.1f}" if MEAN_POSE_VARYING in r else "")
-        rows.append(head | cells | {"mean pose (42 / varying)": mean, "test frames": int(r["test frames"])})
+        rows.append(head | cells | {"mean pose (42 / varying)": mean, "test frames": str(int(r["test frames"]))})
         classes.append("ours")
         key = next((v for k, v in _PAPER_OF.items() if r["method"].startswith(k)), r["method"])
         if key in paper:
@@ -51,7 +51,7 @@ def table1_rows(df: pd.DataFrame) -> tuple[pd.DataFrame, list]:
                     c: html.cell(float(p[c])) if c in p else ""
                     for c in ["full body", *list(TABLE1_COLUMNS.values())[1:]]
                 }
-                | {values[1]: "", "test frames": 418}
+                | {values[1]: "", "test frames": "418"}
             )
             classes.append("paper")
             diff = {c: html.cell(float(r[c] - p[c])) for c in ["full body", *list(TABLE1_COLUMNS.values())[1:]]}
