@@ -161,7 +161,7 @@ def test_a_number_like_string_in_params_is_the_number(tmp_path, capsys):
 @pytest.mark.parametrize(
     "argv",
     [
-        ["table1", "--ours", "IN", "--kmeans", "IN", "--csv", "OUT.csv", "--md", "OUT.md"],
+        ["table1", "--ours", "IN", "IN", "--kmeans", "IN", "IN", "--csv", "OUT.csv", "--md", "OUT.md"],
         ["experiment-table", "--name", "x", "--test-set", "a", "IN", "IN", "--csv", "OUT.csv", "--md", "OUT.md"],
         ["joint-errors", "--summary", "a=IN", "-o", "OUT.png"],
         ["voxelize", "m.h5", "--rig", "IN", "-o", "OUT.h5"],

@@ -7,6 +7,7 @@ from scipy.ndimage import gaussian_filter1d
 from tests.helpers import standing_height_from_bones
 from voxpose.errors import VoxposeError
 from voxpose.io.bvh import read_bvh, write_bvh
+from voxpose.motion import canon
 from voxpose.motion.bvh_kinematics import forward_kinematics
 from voxpose.motion.generate import KINDS, default_motion, generate_motion
 from voxpose.motion.generated_skeleton import JOINT_NAMES
@@ -194,6 +195,23 @@ def test_jump_arms_swing_over_the_head(motions):
         pos, _, ends = fk
         hands = np.maximum(ends[J["LeftHand"]][:, 1], ends[J["RightHand"]][:, 1])
         assert np.any(hands > ends[J["Head"]][:, 1])
+
+
+def test_wrists_bend_in_every_kind(tmp_path, motions):
+    """The hand bends against the forearm (angle between the two segments from the joint positions), and the six
+    canonical wrist angles of Eq. 6 all move, so none is a free zero in the full-body error (issue 20)."""
+    wrist = [i for i, name in enumerate(canon.ANGLE_NAMES) if "wrist" in name]
+    for kind in KINDS:
+        bvh, (pos, _, ends) = motions[kind][0]
+        for side in ("Left", "Right"):
+            forearm = pos[:, J[side + "Hand"]] - pos[:, J[side + "ForeArm"]]
+            hand = ends[J[side + "Hand"]] - pos[:, J[side + "Hand"]]
+            cos = np.sum(forearm * hand, axis=1) / np.linalg.norm(forearm, axis=1) / np.linalg.norm(hand, axis=1)
+            bend = np.degrees(np.arccos(np.clip(cos, -1, 1)))
+            assert np.ptp(bend) > 5.0, (kind, side)
+        path = tmp_path / f"{kind}_gen_00.bvh"
+        write_bvh(bvh, path)
+        assert np.all(load_motion(path).angles[:, wrist].std(axis=0) > 0.1), kind
 
 
 # --- feet and limits --------------------------------------------------------------------------------

@@ -63,5 +63,5 @@ def test_a_held_out_group_is_never_trained_on_and_shares_table2s_run(built):
     table = pd.read_csv(built / "results/tables/generalisation.csv")
     gen_01 = table[table["held_out"] == "gen_01"].drop(columns=["held_out", "train_frames"]).reset_index(drop=True)
     table2 = pd.read_csv(built / "results/tables/experiments/table2.csv").drop(columns="test_set")
-    pd.testing.assert_frame_equal(gen_01, table2)
+    pd.testing.assert_frame_equal(gen_01[table2.columns], table2)  # the intervals' columns are the table's own
     assert scheduled(built, args=TARGETS) == {}

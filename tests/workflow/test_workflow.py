@@ -19,6 +19,7 @@ from snakemake.utils import update_config
 
 from tests.helpers import ROOT, copy_workflow, run_voxpose, scheduled, snakemake
 from voxpose import workflow_config as wc
+from voxpose.evaluation import readme_tables
 from voxpose.provenance import NOT_GIT, config_hash
 
 pytestmark = pytest.mark.workflow  # slow: deselect with -m "not workflow"
@@ -68,6 +69,29 @@ def test_quick_run_writes_every_artifact(workflow_dir):
     for col in ("regular walking", "drunken walking", "spiral walking", "jogging", "jump"):
         assert 0 < measured[col] < 60
     assert 0 < measured["relevance vectors"] < measured["training frames"]
+
+
+def test_report_pages_show_the_paper_beside_ours(workflow_dir):
+    tables = workflow_dir / "results/tables"
+    page = (tables / "table1.html").read_text()
+    assert "<table>" in page and ">5.2<" in page and "difference (voxpose - paper)" in page and "varying angles" in page
+    assert ">2.5<" in (tables / "table2.html").read_text()
+    claims = pd.read_csv(tables / "claims.csv")
+    assert set(claims["verdict"]) <= {"held", "reversed", "not shown"} and len(claims) >= 8  # 2 + 2 + 5 types
+    summary = (workflow_dir / "results/report/summary.html").read_text()
+    for text in ("Table 1", "Table 2", "Figure 4", "configuration hash", "numpy", "data:image/png;base64", ">5.2<"):
+        assert text in summary, text
+
+
+def test_readme_tables_have_the_format_a_fresh_run_generates(workflow_dir):
+    """The README's generated block equals ``voxpose readme-tables`` on this quick run, every number aside."""
+    readme = readme_tables.block((ROOT / "README.md").read_text()).split("\n\n")
+    fresh = readme_tables.markdown(workflow_dir / "results/tables").split("\n\n")
+    assert len(readme) == len(fresh)
+    for i, (ours, theirs) in enumerate(zip(readme, fresh, strict=True)):
+        if i and readme[i - 1].startswith("**Claims:"):  # rows named after the config's rigs: header only
+            ours, theirs = (t.splitlines()[0] for t in (ours, theirs))
+        assert readme_tables.normalised(ours) == readme_tables.normalised(theirs)
 
 
 def test_claims_artifacts(workflow_dir):
@@ -333,7 +357,8 @@ def test_quick_tables_equal_the_reference_run(workflow_dir, name):
     stage): a refactoring changes no number. Text cells and integers are compared exactly, real numbers to 1e-9
     relative: OpenBLAS picks its kernels by CPU, and two CPUs sum in other orders (an AMD EPYC and the machine
     that wrote the files differ from the 11th digit on). A deliberate change of results replaces the files in
-    ``tests/workflow/reference/`` with the new run's and says why in its commit."""
+    ``tests/workflow/reference/`` with the new run's and says why in its commit (last: the generated wrists move,
+    and Tables 1-2 gained intervals and varying-angle columns, issue 20)."""
     found = list(csv.reader((workflow_dir / f"results/tables/{name}.csv").open()))
     expected = list(csv.reader((REFERENCE / f"{name}.csv").open()))
     assert [len(row) for row in found] == [len(row) for row in expected]

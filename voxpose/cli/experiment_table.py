@@ -14,6 +14,7 @@ def add_arguments(p):
     )  # fmt: skip
     add_table_csv(p)
     p.add_argument("--md", required=True)
+    p.add_argument("--html", help="the table as a page for the report")
 
 
 def run(args):
@@ -24,6 +25,11 @@ def run(args):
     if len(set(names)) != len(names):
         raise VoxposeError(f"--test-set: a test set is named twice ({', '.join(names)})")
     sets = {name: (read_summary(mppca), read_summary(kmeans)) for name, mppca, kmeans in args.test_set}
-    write_table(experiment_table(sets), args.csv, args.md,
-                f"Experiment {args.name}: RMS error (degrees) and joint position error (mm) per test set")  # fmt: skip
+    title = f"Experiment {args.name}: RMS error (degrees) and joint position error (mm) per test set"
+    df = experiment_table(sets)
+    write_table(df, args.csv, args.md, title)
+    if args.html:
+        from voxpose.evaluation import html
+
+        html.write_page(args.html, title, html.table(df))
     write_table_meta(args)

@@ -32,9 +32,12 @@ from voxpose.cli import (
     generate,
     joint_errors,
     motion,
+    paper_claims,
     predict,
+    readme_tables,
     regress,
     render,
+    report_summary,
     rig,
     silhouette_contexts,
     silhouette_features,
@@ -83,9 +86,10 @@ def _of(module) -> tuple[str, Subcommand]:
 
 SUBCOMMANDS = dict(
     map(_of, (generate, derive, motion, rig, voxelize, carve, describe, fit_features, features, regress, evaluate,
-              experiment_table, generalisation_table, table1, table2, figure4, joint_errors, error_over_time, gallery,
-              voxelize_degraded, silhouette_contexts, fit_silhouette_features, silhouette_features, export_model,
-              predict, render, silhouettes, data_fetch, check_config, verify))
+              experiment_table, generalisation_table, table1, table2, paper_claims, report_summary, readme_tables,
+              figure4, joint_errors, error_over_time, gallery, voxelize_degraded, silhouette_contexts,
+              fit_silhouette_features, silhouette_features, export_model, predict, render, silhouettes, data_fetch,
+              check_config, verify))
 ) | {  # fmt: skip
     "camera-figure": Subcommand("error against camera rig: transferred, retrained, A&T", claims_figure.add_arguments,
                                 claims_figure.run_cameras, claims_figure.__name__),

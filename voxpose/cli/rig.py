@@ -3,7 +3,7 @@
 
 import logging
 
-from voxpose.cli.common import add_output, parse_params
+from voxpose.cli.common import add_output, finite_number, parse_params, positive_integer
 from voxpose.config_schema import section
 from voxpose.errors import VoxposeError
 
@@ -25,7 +25,7 @@ def add_arguments(p):
     imp.add_argument("--unit", default="m", help="length unit of the calibration: m, dm, cm, mm or metres per unit")
     imp.add_argument("--up", default="+y", help="the calibration world's up axis: +x -x +y -y +z -z (default +y; write "
                      "a negative one as --up=-z)")
-    imp.add_argument("--floor", type=float, help="floor height along the up axis, in the calibration's unit "
+    imp.add_argument("--floor", type=finite_number, help="floor height along the up axis, in the calibration's unit "
                      "(default: estimated from the first frame of --silhouettes)")  # fmt: skip
     imp.add_argument("--size", help="image size WxH when the files do not give it")
     imp.add_argument("--silhouettes", help="silhouette folder to estimate the floor from (its first frame)")
@@ -33,7 +33,7 @@ def add_arguments(p):
     imp.add_argument("--name", help="rig name (default: the output's stem)")
     add_output(imp)
     imp.add_argument("--log", help="also write progress to this file")
-    imp.add_argument("--threads", type=int, default=1, help="threads for numerical libraries (default 1)")
+    imp.add_argument("--threads", type=positive_integer, default=1, help="threads for numerical libraries (default 1)")
 
 
 def _size(text):

@@ -23,6 +23,12 @@ SWEEP_TITLES = {
 }
 
 
+JOINT_WORDS = {"root": "pelvis (root)", "neck": "neck", "lshoulder": "left shoulder", "lelbow": "left elbow",
+               "lwrist": "left wrist", "rshoulder": "right shoulder", "relbow": "right elbow", "rwrist": "right wrist",
+               "lhip": "left hip", "lknee": "left knee", "lankle": "left ankle", "rhip": "right hip",
+               "rknee": "right knee", "rankle": "right ankle"}  # fmt: skip
+
+
 # No creation date or software version in the files: the same config gives the same bytes.
 _METADATA = {"png": {"Software": None}, "pdf": {"CreationDate": None, "Producer": None, "Creator": None}}
 
@@ -51,43 +57,71 @@ def figure4_table(runs) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+# What the paper's text says about each sweep (Section 6), printed in its panel.
+PAPER_STATEMENT = {
+    "r_max": "paper: best 0.5-0.6 m, about h/3",
+    "n_r": "paper: N_r = 4 best once R_max = h/3",
+    "ne_na": "paper: 5 x 10 balances accuracy and cost",
+    "n_components": "paper: curve flattens around K = 200",
+}
+FONT = 12  # points: at 120 dpi and the report's width, no text under 10 px
+
+
 def figure4(table: pd.DataFrame):
-    """Error against each swept parameter, one panel per sweep, the paper's choice marked."""
+    """Error against each swept parameter, one panel per sweep (two by two): ours, the mean training pose, the
+    paper's choice (dotted line) and its text's statement, our best setting (star)."""
     sweeps = [s for s in SWEEP_TITLES if s in set(table["sweep"])]
-    fig = Figure(figsize=(4 * len(sweeps), 3.4))
-    axes = fig.subplots(1, len(sweeps), squeeze=False)
-    for ax, sweep in zip(axes[0], sweeps, strict=True):
+    n_cols = min(2, len(sweeps))
+    n_rows = int(np.ceil(len(sweeps) / n_cols))
+    fig = Figure(figsize=(5.2 * n_cols, 4.0 * n_rows))
+    axes = fig.subplots(n_rows, n_cols, squeeze=False)
+    for ax, sweep in zip(axes.flat, sweeps, strict=False):
         rows = table[table["sweep"] == sweep]
         labels = [str(v) for v in rows["value"]]
         x = np.arange(len(rows)) if sweep == "ne_na" else rows["value"].astype(float).to_numpy()
-        ax.plot(x, rows["validation error (deg)"], "o-", color="C0", label="MPPCA + MVRVM")
-        ax.plot(x, rows["mean-pose baseline (deg)"], "--", color="0.6", label="mean pose")
+        error = rows["validation error (deg)"].to_numpy()
+        ax.plot(x, error, "o-", color="C0", label="voxpose: MPPCA + MVRVM")
+        ax.plot(x, rows["mean-pose baseline (deg)"], "--", color="0.5", label="voxpose: mean training pose")
+        best = int(np.argmin(error))
+        ax.plot(x[best], error[best], "*", color="C1", ms=15, label="voxpose: best setting", zorder=5)
         choice = PAPER_CHOICE[sweep]
         if sweep == "ne_na":
             ax.set_xticks(x, labels)
             choice = labels.index(choice) if choice in labels else None
         if choice is not None:
-            ax.axvline(choice, color="C3", lw=0.8, ls=":", label="paper's choice")
-        ax.set_xlabel(SWEEP_TITLES[sweep])
-        ax.set_ylabel("validation RMS error (deg)")
+            ax.axvline(choice, color="C3", lw=1.5, ls=":", label="paper's choice")
+        ax.text(0.02, 0.97, PAPER_STATEMENT[sweep], transform=ax.transAxes, va="top", fontsize=FONT - 1, color="C3",
+                bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.85})
+        ax.set_title(SWEEP_TITLES[sweep][0].upper() + SWEEP_TITLES[sweep][1:], fontsize=FONT + 1)
+        ax.set_xlabel(SWEEP_TITLES[sweep], fontsize=FONT)
+        ax.set_ylabel("validation error (deg, Eq. 6)", fontsize=FONT)
+        ax.tick_params(labelsize=FONT - 1)
         ax.grid(alpha=0.3)
-    axes[0][0].legend(fontsize=8)
-    fig.tight_layout()
+        ax.margins(y=0.25)
+    for ax in axes.flat[len(sweeps):]:
+        ax.set_axis_off()
+    handles, names = axes.flat[0].get_legend_handles_labels()
+    fig.legend(handles, names, loc="lower center", ncol=4, fontsize=FONT - 1, frameon=False)
+    fig.suptitle("Figure 4: validation error against the descriptor and feature parameters", fontsize=FONT + 2)
+    fig.tight_layout(rect=(0, 0.06, 1, 1))
     return fig
 
 
 def joint_errors(summaries: dict):
     """Bar chart of the error per joint (mean of its 3 angles) for each experiment."""
-    fig = Figure(figsize=(10, 3.6))
+    fig = Figure(figsize=(10, 4.2))
     ax = fig.subplots()
     width = 0.8 / max(1, len(summaries))
     x = np.arange(canon.N_JOINTS)
     for i, (name, summary) in enumerate(summaries.items()):
         per_joint = summary["methods"]["mvrvm"]["per_joint"]
         ax.bar(x + i * width, [per_joint[j] for j in canon.JOINTS], width, label=name)
-    ax.set_xticks(x + width * (len(summaries) - 1) / 2, canon.JOINTS, rotation=45, ha="right")
-    ax.set_ylabel("RMS error (deg)")
-    ax.legend()
+    ax.set_xticks(x + width * (len(summaries) - 1) / 2, [JOINT_WORDS[j] for j in canon.JOINTS], rotation=40,
+                  ha="right", fontsize=FONT - 1)  # fmt: skip
+    ax.set_ylabel("RMS error (deg, mean of 3 angles)", fontsize=FONT)
+    ax.set_title("Error per joint of MPPCA + MVRVM", fontsize=FONT + 1)
+    ax.tick_params(axis="y", labelsize=FONT - 1)
+    ax.legend(fontsize=FONT - 1)
     ax.grid(axis="y", alpha=0.3)
     fig.tight_layout()
     return fig
@@ -100,11 +134,12 @@ def error_over_time(series: dict):
     for ax, (title, motions) in zip(axes[:, 0], series.items(), strict=True):
         for name, err in motions.items():
             ax.plot(np.arange(len(err)), err, lw=0.9, label=name)
-        ax.set_title(title)
-        ax.set_xlabel("frame")
-        ax.set_ylabel("error (deg)")
+        ax.set_title(f"Per-frame error (Eq. 6) of MPPCA + MVRVM along each test motion: {title}", fontsize=FONT)
+        ax.set_xlabel("frame", fontsize=FONT)
+        ax.set_ylabel("error (deg)", fontsize=FONT)
+        ax.tick_params(labelsize=FONT - 1)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, ncol=3)
+        ax.legend(fontsize=FONT - 2, ncol=5)
     fig.tight_layout()
     return fig
 

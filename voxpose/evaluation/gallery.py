@@ -36,13 +36,28 @@ def _skeleton(angles, offsets, root):
     return positions[0] + root
 
 
+KIND_WORDS = {
+    "walk": "regular walking",
+    "drunk": "drunken walking",
+    "spiral": "spiral walking",
+    "jog": "jogging",
+    "jump": "jumping",
+}
+
+
 def gallery(predictions: dict, voxels: dict, per_kind: int = 3, method: str = "mvrvm"):
-    """Figure of ``per_kind`` frames per motion type; ``voxels``: motion -> (VoxelSequence, meta)."""
+    """Figure of ``per_kind`` frames per motion type, one column per type; ``voxels``: motion -> (VoxelSequence,
+    meta). Each panel names the type, the motion, the frame and its Eq. 6 error; its box fits the body, so the
+    figure is not mostly white space."""
     picks = [p for p in pick_frames(predictions, per_kind) if p[0] in voxels]
-    n_cols = min(6, max(1, len(picks)))
-    n_rows = int(np.ceil(len(picks) / n_cols))
-    fig = Figure(figsize=(3.4 * n_cols, 4.2 * n_rows))
-    for i, (name, f) in enumerate(picks):
+    kinds = list(dict.fromkeys(kind_of(name) for name, _ in picks))
+    n_cols = max(1, len(kinds))
+    n_rows = max(1, max((sum(kind_of(n) == k for n, _ in picks) for k in kinds), default=1))
+    fig = Figure(figsize=(2.5 * n_cols, 3.9 * n_rows))
+    row_of = {}
+    for name, f in picks:
+        kind = kind_of(name)
+        row = row_of[kind] = row_of.get(kind, -1) + 1
         seq, _ = voxels[name]
         pred = predictions[name]
         ijk, surface, _ = seq.frame(f)
@@ -50,19 +65,23 @@ def gallery(predictions: dict, voxels: dict, per_kind: int = 3, method: str = "m
         root = pred["root_positions"][f] + seq.shifts[f]
         true = _skeleton(pred["true"][f], pred["offsets"], root)
         est = _skeleton(pred[f"pred_{method}"][f], pred["offsets"], root)
-        ax = fig.add_subplot(n_rows, n_cols, i + 1, projection="3d")
-        ax.scatter(points[:, 0], points[:, 2], points[:, 1], s=1, c="0.7", alpha=0.35, depthshade=False)
+        ax = fig.add_subplot(n_rows, n_cols, row * n_cols + kinds.index(kind) + 1, projection="3d")
+        ax.scatter(points[:, 0], points[:, 2], points[:, 1], s=1, c="0.65", alpha=0.35, depthshade=False)
         for skel, colour in ((true, "k"), (est, "r")):
             for j, p in BONES:
                 seg = skel[[p, j]]
-                ax.plot(seg[:, 0], seg[:, 2], seg[:, 1], color=colour, lw=1.6)
-        centre = points.mean(axis=0)
-        half = 0.5 * max(np.ptp(points, axis=0).max(), 1e-3)
-        ax.set_xlim(centre[0] - half, centre[0] + half)
-        ax.set_ylim(centre[2] - half, centre[2] + half)
-        ax.set_zlim(centre[1] - half, centre[1] + half)
+                ax.plot(seg[:, 0], seg[:, 2], seg[:, 1], color=colour, lw=1.8)
+        every = np.concatenate([points, true, est])
+        low, high = every.min(axis=0) - 0.02, every.max(axis=0) + 0.02
+        ax.set_xlim(low[0], high[0])
+        ax.set_ylim(low[2], high[2])
+        ax.set_zlim(low[1], high[1])
+        ax.set_box_aspect((high - low)[[0, 2, 1]], zoom=1.25)
         ax.set_axis_off()
-        ax.set_title(f"{name}\nframe {f}: {pred[f'frame_error_{method}'][f]:.1f} deg", fontsize=7)
-    fig.suptitle("voxels (grey), true skeleton (black), estimate (red)", fontsize=9)
-    fig.tight_layout()
+        ax.set_title(
+            f"{KIND_WORDS.get(kind, kind)}\n{name}, frame {f}\nerror {pred[f'frame_error_{method}'][f]:.1f} deg",
+            fontsize=11,
+        )
+    fig.suptitle("Test frames: carved voxels (grey), true skeleton (black), estimate (red)", fontsize=13)
+    fig.subplots_adjust(left=0, right=1, bottom=0, top=1 - 0.45 / fig.get_figheight(), wspace=0.02, hspace=0.12)
     return fig

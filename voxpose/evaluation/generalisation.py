@@ -10,8 +10,9 @@ import pandas as pd
 from matplotlib.figure import Figure
 
 from voxpose.errors import VoxposeError
+from voxpose.evaluation import uncertainty
 from voxpose.evaluation.figures import save
-from voxpose.evaluation.tables import EXPERIMENT_METHODS, experiment_table
+from voxpose.evaluation.tables import ALL_ANGLES, EXPERIMENT_METHODS, experiment_table
 
 METHOD_LABELS = {
     "mvrvm": "MPPCA + MVRVM",
@@ -37,6 +38,28 @@ def generalisation_table(groups: list) -> pd.DataFrame:
     df = experiment_table(by_group).rename(columns={"test_set": "held_out"})
     df.insert(3, "train_frames", [by_group[g][0]["train_frames"] for g in df["held_out"]])
     return df
+
+
+def with_intervals(df: pd.DataFrame, predictions: dict, n_boot: int, seed: int) -> pd.DataFrame:
+    """``df`` with each row's full-body 95 % bootstrap interval (test motions, then frames) and its full body over
+    the angles that vary in the held-out group; ``predictions``: group -> (MPPCA predictions.h5, K-means's)."""
+    low, high, varying, count = [], [], [], []
+    for group, method in zip(df["held_out"], df["method"], strict=True):
+        mppca, kmeans = predictions[group]
+        frames = uncertainty.read_test_frames(kmeans, "mvrvm") if method == "kmeans" else \
+            uncertainty.read_test_frames(mppca, method)
+        _, lo, hi = uncertainty.estimate(frames, ALL_ANGLES, n_boot, seed)
+        keep = uncertainty.varying(frames)
+        low.append(lo)
+        high.append(hi)
+        varying.append(uncertainty.estimate(frames, keep, 1, seed)[0])
+        count.append(int(keep.sum()))
+    at = list(df.columns).index("full_body") + 1
+    out = df.copy()
+    for offset, (name, values) in enumerate((("full_body_low", low), ("full_body_high", high),
+                                             ("full_body_varying", varying), ("varying_angles", count))):
+        out.insert(at + offset, name, values)
+    return out
 
 
 def generalisation_figure(df: pd.DataFrame, path) -> None:

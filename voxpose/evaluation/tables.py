@@ -1,14 +1,19 @@
 """Table 1 and Table 2 of Section 6, from run summaries, with the paper's numbers beside ours.
 
 Errors are in degrees: the mean over the 42 angles (or over a joint's 3 angles) of the RMS over the test
-frames of the wrapped absolute difference (Eq. 6 and its footnote; see ``voxpose.evaluation.metrics``).
+frames of the wrapped absolute difference (Eq. 6 and its footnote; see ``voxpose.evaluation.metrics``). Every
+measured error carries its 95 % bootstrap interval (``<column> low`` / ``<column> high``), and the full body is
+also given over the angles that vary in the test data (``voxpose.evaluation.uncertainty``): an angle that never
+moves is predicted exactly and lowers the mean over 42.
 """
 
 import json
 
+import numpy as np
 import pandas as pd
 
 from voxpose.errors import VoxposeError
+from voxpose.evaluation import uncertainty
 from voxpose.io.atomic import atomic_path
 from voxpose.motion import canon
 
@@ -28,6 +33,10 @@ TABLE2_COLUMNS = {
     "jog": "jogging",
     "jump": "jump",
 }
+OURS_LABEL = "Our approach (MPPCA + MVRVM)"
+KMEANS_LABEL = "Our approach (K-means + MVRVM)"
+MEAN_POSE_LABEL = "Mean training pose (baseline)"
+ALL_ANGLES = np.arange(canon.N_ANGLES)
 AT_ONE_LABEL = "Agarwal & Triggs-style, 1 camera (2D shape contexts + K-means + MVRVM)"
 AT_ALL_LABEL = "Agarwal & Triggs-style, all cameras concatenated (2D shape contexts + K-means + MVRVM)"
 TABLE1_COLUMNS = {
@@ -46,19 +55,52 @@ def read_summary(path) -> dict:
         raise VoxposeError(f"{path}: cannot read run summary ({err})") from None
 
 
-def table1(ours: dict, kmeans: dict, agarwal_triggs: dict | None = None) -> pd.DataFrame:
+FULL_VARYING = "full body, varying angles"
+MEAN_POSE = "mean-pose baseline (full body)"
+MEAN_POSE_VARYING = "mean-pose baseline (varying angles)"
+
+
+def interval_columns(frames, n_boot: int, seed: int, prefix: str = "") -> dict:
+    """The error columns of one method's test frames, each with its 95 % interval: full body over the 42 angles
+    and over the varying ones (with their count), heading, left shoulder, right hip."""
+    keep = uncertainty.varying(frames)
+    selections = {"full_body": np.arange(canon.N_ANGLES), "varying": keep} | uncertainty.COLUMNS
+    names = TABLE1_COLUMNS | {"varying": FULL_VARYING}
+    out = {}
+    for key, angles in selections.items():
+        value, low, high = uncertainty.estimate(frames, angles, n_boot, seed)
+        out |= {f"{prefix}{names[key]}": value, f"{prefix}{names[key]} low": low, f"{prefix}{names[key]} high": high}
+    out["varying angles"] = int(keep.sum())
+    return out
+
+
+def read_csv(path) -> pd.DataFrame:
+    """A table written by ``write_table``; a missing or unreadable file is a one-line error naming it."""
+    try:
+        return pd.read_csv(path)
+    except (OSError, ValueError) as err:
+        raise VoxposeError(f"{path}: cannot read table ({err})") from None
+
+
+def table1(ours: dict, kmeans: dict, agarwal_triggs: dict | None = None, frames: dict | None = None,
+           n_boot: int = 1000, seed: int = 0) -> pd.DataFrame:  # fmt: skip
     """Rows: our approach (MPPCA + MVRVM), K-means + MVRVM, Agarwal & Triggs; measured and paper values.
 
     ``agarwal_triggs``: optional {row label: summary} of measured Agarwal & Triggs-style runs
-    (``voxpose.features.silhouette``), placed after the row the paper quotes.
+    (``voxpose.features.silhouette``), placed after the row the paper quotes. ``frames``: {row label:
+    (the MVRVM's ``uncertainty.FrameErrors``, the mean pose's)} for the intervals and the varying-angle columns.
     """
     rows = []
 
-    def measured(label, summary):
-        m = summary["methods"]["mvrvm"]
+    def measured(label, summary, method="mvrvm"):
+        m = summary["methods"][method]
         row = {"method": label, "source": "voxpose (measured)"}
         row |= {col: m[key] for key, col in TABLE1_COLUMNS.items()}
-        row["mean-pose baseline (full body)"] = summary["methods"]["mean_pose"]["full_body"]
+        if frames and label in frames:
+            errors, mean_pose = frames[label]
+            row |= interval_columns(errors, n_boot, seed)
+            row[MEAN_POSE_VARYING] = uncertainty.estimate(mean_pose, uncertainty.varying(mean_pose), 1, seed)[0]
+        row[MEAN_POSE] = summary["methods"]["mean_pose"]["full_body"]
         row["joint position error (mm)"] = m["position_mm"]
         row["test frames"] = summary["test_frames"]
         return row
@@ -67,24 +109,40 @@ def table1(ours: dict, kmeans: dict, agarwal_triggs: dict | None = None) -> pd.D
         row = {"method": label, "source": source}
         return row | {col: PAPER_TABLE1[key][k] for k, col in TABLE1_COLUMNS.items()} | {"test frames": 418}
 
-    rows.append(measured("Our approach (MPPCA + MVRVM)", ours))
-    rows.append(paper("Our approach (MPPCA + MVRVM)", "ours", "paper"))
-    rows.append(measured("Our approach (K-means + MVRVM)", kmeans))
-    rows.append(paper("Our approach (K-means + MVRVM)", "kmeans", "paper"))
+    rows.append(measured(OURS_LABEL, ours))
+    rows.append(paper(OURS_LABEL, "ours", "paper"))
+    rows.append(measured(KMEANS_LABEL, kmeans))
+    rows.append(paper(KMEANS_LABEL, "kmeans", "paper"))
     rows.append(paper("Agarwal & Triggs [1]", "agarwal_triggs", "quoted by the paper"))
     for label, summary in (agarwal_triggs or {}).items():
         rows.append(measured(label, summary))
+    if frames and MEAN_POSE_LABEL in frames:
+        rows.append(measured(MEAN_POSE_LABEL, ours, "mean_pose"))
     return pd.DataFrame(rows)
 
 
-def table2(summary: dict) -> pd.DataFrame:
-    """Error per motion type of one regressor trained on all types, with model size, beside the paper's."""
+def table2(summary: dict, frames=None, n_boot: int = 1000, seed: int = 0) -> pd.DataFrame:
+    """Error per motion type of one regressor trained on all types, with model size, beside the paper's.
+
+    ``frames``: (the MVRVM's ``uncertainty.FrameErrors``, the mean pose's) for each type's interval and mean
+    pose, and the full body over all types (42 and varying angles)."""
     per_kind = summary["methods"]["mvrvm"]["per_kind"]
     measured = {"source": "voxpose (measured)"}
     paper = {"source": "paper"}
     for kind, col in TABLE2_COLUMNS.items():
         measured[col] = per_kind[kind]["full_body"] if kind in per_kind else float("nan")
         paper[col] = PAPER_TABLE2[kind]
+        if frames is not None:
+            mvrvm, mean_pose = (f.of_kind(kind) for f in frames)
+            _, measured[f"{col} low"], measured[f"{col} high"] = uncertainty.estimate(mvrvm, ALL_ANGLES, n_boot, seed)
+            measured[f"{col} mean pose"] = uncertainty.estimate(mean_pose, ALL_ANGLES, 1, seed)[0]
+            measured[f"{col} frames"] = sum(len(d) for d in mvrvm.diff)
+    if frames is not None:
+        columns = interval_columns(frames[0], n_boot, seed)
+        keep = [f"{c}{end}" for c in ("full body", FULL_VARYING) for end in ("", " low", " high")]
+        measured |= {k: columns[k] for k in [*keep, "varying angles"]}
+        measured[MEAN_POSE] = summary["methods"]["mean_pose"]["full_body"]
+        measured[MEAN_POSE_VARYING] = uncertainty.estimate(frames[1], uncertainty.varying(frames[1]), 1, seed)[0]
     measured |= {
         "relevance vectors": summary["n_relevance"],
         "training frames": summary["train_frames"],

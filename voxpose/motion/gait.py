@@ -16,12 +16,19 @@ frequency; a sideways sway (both legs tilted together in the frontal plane) that
 stance foot; the legs' frontal angle cancels the pelvic roll plus a constant stance width; the thorax
 counter-rotates against the pelvis (split over Spine and Chest) and leans forward; the neck keeps the head
 facing ahead; each shoulder swings in counter-phase with its own leg and the elbow flexes more as the arm
-comes forward. Knee flexion stays below 90 degrees, so the middle (X) angle of every ZXY triple stays inside
-(-90, 90) and the written angles are continuous. A foot is in stance for the first ``duty`` of its stride
-(0.60 walking, 0.38 jogging, which leaves two flights per stride).
+comes forward; the hand lags the arm's swing at the wrist (flexion about a drawn mean, 5-15 degrees, swinging
+by 5-10 degrees, and a drawn ulnar deviation, 3-10 degrees, wobbling by 3), so the canonical wrist angles move
+as captured wrists do and Eq. 6 averages over 42 angles that all vary (with still wrists 6 of them would be
+predicted exactly, free zeros that lower the full-body error). Knee flexion stays below 90 degrees, so the
+middle (X) angle of every ZXY triple stays inside (-90, 90) and the written angles are continuous. A foot is
+in stance for the first ``duty`` of its stride (0.60 walking, 0.38 jogging, which leaves two flights per stride).
 
 Jumps (``jump_plan``): stand, crouch with the arms back, push-off with the arms swinging over the head, a
-ballistic flight, landing and recovery, joined by PCHIP over time through keyframes (``_JUMP_KEYS``).
+ballistic flight, landing and recovery, joined by PCHIP over time through keyframes (``_JUMP_KEYS``); the
+wrists extend with the arms back and flex as they swing up.
+
+The wrists' parameters are drawn after every other random choice, so adding them left every other angle of
+the default motions as it was.
 """
 
 from dataclasses import dataclass
@@ -181,6 +188,8 @@ def local_rotations(a: dict, n: int) -> np.ndarray:
         rot[:, joint[side + "Shoulder"]] = _rot("Z", sign * a["clavicle"])
         rot[:, joint[side + "Arm"]] = _rot("X", -a[f"shoulder_{s}"]) @ _rot("Z", -sign * (90.0 - a["arm_abduction"]))
         rot[:, joint[side + "ForeArm"]] = _rot("Y", -sign * a[f"elbow_{s}"])
+        # wrist flexion bends the hand towards the palm (-Y in the T-pose), ulnar deviation towards the back (-Z)
+        rot[:, joint[side + "Hand"]] = _rot("Z", -sign * a[f"wrist_{s}"]) @ _rot("Y", sign * a[f"deviation_{s}"])
         rot[:, joint[side + "UpLeg"]] = _rot("Z", a[f"frontal_{s}"]) @ _rot("X", -a[f"hip_{s}"])
         rot[:, joint[side + "Leg"]] = _rot("X", a[f"knee_{s}"])
         rot[:, joint[side + "Foot"]] = _rot("X", -a[f"ankle_{s}"])
@@ -253,21 +262,26 @@ def gait_plan(kind: str, rng: np.random.Generator, t: np.ndarray, turn_rate: flo
     a["shoulder_l"], a["shoulder_r"] = -arm, arm
     for s in ("l", "r"):  # more flexion as the arm comes forward
         a[f"elbow_{s}"] = g.elbow + g.elbow_swing * (1 + a[f"shoulder_{s}"] / swing) / 2
+    flex, flex_swing, deviation = u(5.0, 15.0), u(5.0, 10.0), u(3.0, 10.0)
+    for s, sign in (("l", -1.0), ("r", 1.0)):  # the hand lags the arm: most flexed just after the arm's back turn
+        lag = sign * cos(w * (phase - 0.15))
+        a[f"wrist_{s}"] = flex + flex_swing * lag + 0.5 * arm_noise
+        a[f"deviation_{s}"] = deviation + 3.0 * np.sin(w * (phase - 0.15) + (s == "r") * np.pi)
     stance = np.stack([np.mod(phase, 1.0) < g.duty, np.mod(phase + 0.5, 1.0) < g.duty], axis=1)
     return Plan(a, stance, zeros, turn, _STEADY_S)
 
 
 # Jump keyframes: hip, knee, pelvis tilt, heel rise, toe extension, shoulder flexion, elbow, thorax pitch,
-# clavicle elevation (degrees), at: stand, crouch bottom, take-off, apex, touchdown, landing absorption.
-_JUMP_CHANNELS = ("hip", "knee", "tilt", "heel", "toe", "shoulder", "elbow", "spine", "clavicle")
+# clavicle elevation, wrist flexion (degrees), at: stand, crouch bottom, take-off, apex, touchdown, landing absorption.
+_JUMP_CHANNELS = ("hip", "knee", "tilt", "heel", "toe", "shoulder", "elbow", "spine", "clavicle", "wrist")
 _JUMP_KEYS = np.array(
     [
-        [0, 3, 0, 0, 0, -5, 10, 0, 0],
-        [72, 88, 20, 0, 0, -45, 20, 15, 0],
-        [-2, 4, 0, 35, 35, 150, 10, -3, 15],
-        [18, 30, 0, 25, 5, 155, 15, 0, 15],
-        [10, 12, 0, 20, 20, 110, 15, 5, 10],
-        [50, 65, 12, 0, 0, 20, 20, 12, 0],
+        [0, 3, 0, 0, 0, -5, 10, 0, 0, 10],
+        [72, 88, 20, 0, 0, -45, 20, 15, 0, -25],
+        [-2, 4, 0, 35, 35, 150, 10, -3, 15, 20],
+        [18, 30, 0, 25, 5, 155, 15, 0, 15, 10],
+        [10, 12, 0, 20, 20, 110, 15, 5, 10, 0],
+        [50, 65, 12, 0, 0, 20, 20, 12, 0, 15],
     ],
     dtype=float,
 )
@@ -322,5 +336,8 @@ def jump_plan(rng: np.random.Generator, t: np.ndarray) -> Plan:
     a |= {"torso_yaw": zeros, "torso_pitch": c["spine"], "torso_roll": zeros, "neck_yaw": zeros}
     a |= {"neck_pitch": -0.6 * (c["tilt"] + c["spine"]), "neck_roll": zeros, "clavicle": c["clavicle"]}
     a["arm_abduction"] = np.full(len(t), 10.0)
+    deviation = rng.uniform(3.0, 10.0)
+    for s in ("l", "r"):
+        a[f"wrist_{s}"], a[f"deviation_{s}"] = c["wrist"], deviation + 0.1 * c["shoulder"]
     stance = np.stack([~flight, ~flight], axis=1)
     return Plan(a, stance, speed, np.interp(t, turn_t, turn_v), 0.0)

@@ -249,13 +249,29 @@ def run_file(exp, feat, name, desc=None, test=None):
     return f"{test_dir(exp, desc or DESC, feat, test)}/{name}"
 
 
+def data_set():
+    """What the motions are, as the report names the data set beside every verdict."""
+    folders = config["bvh_dir"]
+    if not folders:
+        return "generated motions (voxpose's embedded default set)"
+    return "motion capture in " + ", ".join(folders if isinstance(folders, list) else [folders])
+
+
+def bootstrap_args():
+    """The seeded bootstrap options of the tables with intervals."""
+    return f"--bootstrap {config['report']['bootstrap']} --seed {config['seed']}"
+
+
 def final_targets():
     """Every motion's poses, and the artifacts whose experiments are in the run (a shipped experiment with no
     motions in bvh_dir is left out, and so are its tables and figures)."""
     model = lambda exp: f"results/models/{exp}/{RIG}/{DESC}/{MPPCA}/model.h5"  # noqa: E731
     needs = [  # (experiments, the artifacts made from them)
-        (["table1"], ["results/tables/table1.csv", "results/tables/table1.md", model("table1")]),
-        (["table2"], ["results/tables/table2.csv", "results/tables/table2.md", model("table2"),
+        (["table1"], ["results/tables/table1.csv", "results/tables/table1.md", "results/tables/table1.html",
+                      model("table1")]),  # fmt: skip
+        (["table1", "table2"], ["results/tables/claims.csv", "results/tables/claims.html"]),
+        (["table1", "table2", "figure4"], ["results/report/summary.html"]),
+        (["table2"], ["results/tables/table2.csv", "results/tables/table2.md", "results/tables/table2.html", model("table2"),
                       "results/figures/gallery.png"]),  # fmt: skip
         (["table1", "table2"], ["results/figures/joint_errors.png", "results/figures/error_over_time.png"]),
         (["figure4"], ["results/figures/figure4.png", "results/figures/figure4.pdf", "results/tables/figure4.csv"]),
@@ -265,5 +281,11 @@ def final_targets():
     artifacts = [path for exps, paths in needs if set(exps) <= set(EXPERIMENTS) for path in paths]
     artifacts += [f"results/tables/experiments/{exp}.csv" for exp in EXPERIMENTS]
     if HELD_OUT:
-        artifacts += ["results/tables/generalisation.csv", "results/figures/generalisation.png"]
+        artifacts += ["results/tables/generalisation.csv", "results/tables/generalisation.html",
+                      "results/figures/generalisation.png"]
     return artifacts + [f"results/motions/{motion}.h5" for motion in MOTIONS]
+
+
+def run_pair(exp, feat, desc=None):
+    """A run's summary.json and predictions.h5, as the tables' ``--<run> SUMMARY PREDICTIONS`` take them."""
+    return [run_file(exp, feat, "summary.json", desc=desc), run_file(exp, feat, "predictions.h5", desc=desc)]
