@@ -237,7 +237,8 @@ def test_an_override_with_every_key_at_its_current_value_schedules_nothing(workf
 # The artifacts at fixed paths (results/tables/table1.csv, ...) show the current config's results: they are
 # rebuilt from cached results (seconds each) when the config changes, and on the way back.
 ARTIFACT_RULES = {"table1", "table2", "figure4", "gallery", "joint_errors", "error_over_time", "camera_figure",
-                  "robustness_figure", "experiment_table", "generalisation_table", "all"}  # fmt: skip
+                  "robustness_figure", "experiment_table", "generalisation_table", "paper_claims", "report_summary",
+                  "all"}  # fmt: skip
 
 
 NAMED_SETS = """experiments:
