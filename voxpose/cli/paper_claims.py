@@ -1,5 +1,6 @@
 """``voxpose paper-claims``: the claims the paper draws from Tables 1 and 2, held or not on this run's data."""
 
+from voxpose.cli.common import add_table_csv, write_table_meta
 from voxpose.cli.table1 import add_bootstrap
 
 NAME = "paper-claims"
@@ -18,7 +19,7 @@ def add_arguments(p):
     )
     p.add_argument("--data-set", required=True, help="what the motions are (shown beside every verdict)")
     add_bootstrap(p)
-    p.add_argument("--csv", required=True)
+    add_table_csv(p)
     p.add_argument("--html", required=True)
 
 
@@ -36,3 +37,4 @@ def run(args):
     with atomic_path(args.csv) as tmp:
         df.to_csv(tmp, index=False)
     table_pages.claims_page(df, paper_claims.overall(df), args.html, args.bootstrap)
+    write_table_meta(args)

@@ -70,6 +70,8 @@ rule paper_claims:  # lint: no conda/container, see Snakefile
                    labels={"table": "The paper's claims", "file": "CSV"}),  # fmt: skip
         html=report("results/tables/claims.html", caption="../report/claims.rst", category="1 Tables",
                     labels={"table": "The paper's claims", "file": "table"}),  # fmt: skip
+        meta=report("results/tables/claims.meta.json", caption="../report/provenance.rst",
+                    category="Provenance"),  # fmt: skip
     params:
         runs=lambda w, input: " ".join(f"--run {name} {path}" for name, path in input.items()),
         data=shlex.quote(data_set()),
