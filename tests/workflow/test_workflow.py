@@ -344,6 +344,8 @@ def test_every_table_records_what_made_it(workflow_dir):
     tables = sorted((workflow_dir / "results/tables").rglob("*.csv"))
     assert len(tables) >= 7
     for table in tables:
+        if table.parent.name == "experiments" and table.stem not in config["experiments"]:
+            continue  # an experiment an earlier test's override config made: its hash is that config's
         meta = json.loads(table.with_name(f"{table.stem}.meta.json").read_text())
         assert meta["config_hash"] == config_hash(config), table
         assert meta["git_commit"] == NOT_GIT  # the test's copy of the workflow is no checkout
