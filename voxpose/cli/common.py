@@ -59,7 +59,8 @@ def parse_params(text: str, what: str = "--params", schema: dict | None = None) 
     return value
 
 
-def _number(text: str) -> float:
+def finite_number(text: str) -> float:
+    """argparse type: any finite number."""
     try:
         value = float(text)
     except ValueError:
@@ -69,14 +70,9 @@ def _number(text: str) -> float:
     return value
 
 
-def finite_number(text: str) -> float:
-    """argparse type: any finite number."""
-    return _number(text)
-
-
 def positive_number(text: str) -> float:
     """argparse type: a finite number > 0."""
-    value = _number(text)
+    value = finite_number(text)
     if value <= 0:
         raise argparse.ArgumentTypeError(f"must be a positive number, got {text}")
     return value
@@ -84,7 +80,7 @@ def positive_number(text: str) -> float:
 
 def non_negative_number(text: str) -> float:
     """argparse type: a finite number >= 0."""
-    value = _number(text)
+    value = finite_number(text)
     if value < 0:
         raise argparse.ArgumentTypeError(f"must be a number >= 0, got {text}")
     return value
