@@ -10,6 +10,7 @@ def add_arguments(p):
     p.add_argument("--runs", required=True, help="JSON list of [sweep, value, summary.json]")
     p.add_argument("--png", required=True)
     p.add_argument("--pdf", required=True)
+    p.add_argument("--html", help="the figure, its caption and its table as a page for the report")
     add_table_csv(p)
 
 
@@ -24,4 +25,8 @@ def run(args):
     fig = figures.figure4(table)
     figures.save(fig, args.png, "png")
     figures.save(fig, args.pdf, "pdf")
+    if args.html:
+        from voxpose.evaluation.figure_pages import figure4_page
+
+        figure4_page(table, args.png, args.html)
     write_table_meta(args)

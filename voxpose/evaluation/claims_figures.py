@@ -11,6 +11,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
+from voxpose.evaluation.figures import FONT
 from voxpose.evaluation.tables import read_summary
 
 LEVEL_TITLES = {
@@ -18,6 +19,14 @@ LEVEL_TITLES = {
     "morph": "erosion (-) / dilation (+), pixels",
     "limb": "limb segments missing in one view",
     "calibration": "rotation error of one camera (degrees)",
+}
+
+
+KIND_TITLES = {
+    "flip": "Noisy silhouette boundaries",
+    "morph": "Silhouettes too thin or too fat",
+    "limb": "A limb missing in one view",
+    "calibration": "One camera miscalibrated",
 }
 
 
@@ -43,7 +52,7 @@ def camera_figure(table: pd.DataFrame):
     """Grouped bars: error per rig for each series; "n/a" where a series cannot run on a rig."""
     rigs = list(dict.fromkeys(table["rig"]))
     series = list(dict.fromkeys(table["series"]))
-    fig = Figure(figsize=(1.6 * len(rigs) + 2, 3.8))
+    fig = Figure(figsize=(max(8.0, 1.7 * len(rigs) + 2), 5.0))
     ax = fig.subplots()
     width = 0.8 / len(series)
     x = np.arange(len(rigs))
@@ -55,12 +64,17 @@ def camera_figure(table: pd.DataFrame):
         ax.bar(pos, np.nan_to_num(values), width, label=name, color=f"C{i}")
         for p, v, present in zip(pos, values, rows["cameras"].notna(), strict=True):
             if np.isnan(v) and present:
-                ax.text(p, 0.02 * top, "n/a", ha="center", va="bottom", fontsize=7, rotation=90)
-    labels = [f"{r}\n({int(table[table['rig'] == r]['cameras'].iloc[0])} cams)" for r in rigs]
-    ax.set_xticks(x, labels, fontsize=8)
-    ax.set_ylabel("full-body RMS error (deg)")
+                ax.text(p, 0.02 * top, "n/a", ha="center", va="bottom", fontsize=FONT - 2, rotation=90)
+    labels = [f"{r}\n({int(table[table['rig'] == r]['cameras'].iloc[0])} cameras)" for r in rigs]
+    ax.set_xticks(x, labels, fontsize=FONT - 2)
+    ax.tick_params(axis="y", labelsize=FONT - 1)
+    ax.set_ylabel("full-body RMS error (deg, Eq. 6)", fontsize=FONT)
+    baseline = table["mean-pose baseline (deg)"].dropna()
+    if len(baseline):
+        ax.axhline(baseline.iloc[0], color="0.5", ls="--", lw=1, label="mean training pose")
+    ax.set_title("The regressor on other camera rigs: tested without retraining, and retrained", fontsize=FONT + 1)
     ax.grid(axis="y", alpha=0.3)
-    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.18), ncol=2, frameon=False)
+    ax.legend(fontsize=FONT - 1, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, frameon=False)
     fig.tight_layout()
     return fig
 
@@ -73,19 +87,26 @@ def robustness_table(runs) -> pd.DataFrame:
 def robustness_figure(table: pd.DataFrame):
     """Error against degradation level, one panel per kind, one line per carving rule."""
     kinds = [k for k in LEVEL_TITLES if k in set(table["kind"])]
-    fig = Figure(figsize=(3.6 * len(kinds), 3.3))
-    axes = fig.subplots(1, len(kinds), squeeze=False, sharey=True)
-    for ax, kind in zip(axes[0], kinds, strict=True):
+    n_cols = min(2, len(kinds))
+    fig = Figure(figsize=(5.2 * n_cols, 4.0 * int(np.ceil(len(kinds) / n_cols)) + 0.6))
+    axes = fig.subplots(int(np.ceil(len(kinds) / n_cols)), n_cols, squeeze=False, sharey=True)
+    for ax, kind in zip(axes.flat, kinds, strict=False):
         rows = table[table["kind"] == kind]
         for i, (rule, part) in enumerate(rows.groupby("carving", sort=False)):
             part = part.sort_values("level")
             ax.plot(part["level"], part["error (deg)"], "o-", color=f"C{i}", label=f"carving: {rule}")
         clean = rows[rows["level"] == 0]["mean-pose baseline (deg)"]
         if len(clean):
-            ax.axhline(clean.iloc[0], color="0.6", ls="--", lw=0.8, label="mean pose")
-        ax.set_xlabel(LEVEL_TITLES[kind])
+            ax.axhline(clean.iloc[0], color="0.6", ls="--", lw=0.8, label="mean training pose")
+        ax.set_title(KIND_TITLES[kind], fontsize=FONT + 1)
+        ax.set_xlabel(LEVEL_TITLES[kind], fontsize=FONT)
+        ax.set_ylabel("full-body RMS error (deg, Eq. 6)", fontsize=FONT)
+        ax.tick_params(labelsize=FONT - 1)
         ax.grid(alpha=0.3)
-    axes[0][0].set_ylabel("full-body RMS error (deg)")
-    axes[0][0].legend(fontsize=7)
-    fig.tight_layout()
+    for ax in axes.flat[len(kinds):]:
+        ax.set_axis_off()
+    handles, names = axes.flat[0].get_legend_handles_labels()
+    fig.legend(handles, names, loc="lower center", ncol=3, fontsize=FONT - 1, frameon=False)
+    fig.suptitle("Error on degraded silhouettes, by degradation and carving rule", fontsize=FONT + 2)
+    fig.tight_layout(rect=(0, 0.06, 1, 1))
     return fig

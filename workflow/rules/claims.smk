@@ -187,6 +187,7 @@ rule camera_figure:  # lint: no conda/container, see Snakefile
         csv=report("results/tables/camera_rigs.csv", caption="../report/camera_rigs_table.rst", category="Claims"),
         meta=report("results/tables/camera_rigs.meta.json", caption="../report/provenance.rst",
                     category="Provenance"),  # fmt: skip
+        html=report("results/tables/camera_rigs.html", caption="../report/camera_rigs_table.rst", category="Claims"),
     params:
         runs=arg(camera_runs()),
         code=code("camera-figure"),
@@ -198,7 +199,8 @@ rule camera_figure:  # lint: no conda/container, see Snakefile
         mem_mb=1000,
         runtime=5,
     shell:
-        "voxpose camera-figure --runs {params.runs} --png {output.png} --csv {output.csv} --log {log}"
+        "voxpose camera-figure --runs {params.runs} --png {output.png} --csv {output.csv}"
+        " --html {output.html} --log {log}"
 
 
 rule robustness_figure:  # lint: no conda/container, see Snakefile
@@ -209,6 +211,7 @@ rule robustness_figure:  # lint: no conda/container, see Snakefile
         csv=report("results/tables/robustness.csv", caption="../report/robustness_table.rst", category="Claims"),
         meta=report("results/tables/robustness.meta.json", caption="../report/provenance.rst",
                     category="Provenance"),  # fmt: skip
+        html=report("results/tables/robustness.html", caption="../report/robustness_table.rst", category="Claims"),
     params:
         runs=arg(robustness_runs()),
         code=code("robustness-figure"),
@@ -220,4 +223,5 @@ rule robustness_figure:  # lint: no conda/container, see Snakefile
         mem_mb=1000,
         runtime=5,
     shell:
-        "voxpose robustness-figure --runs {params.runs} --png {output.png} --csv {output.csv} --log {log}"
+        "voxpose robustness-figure --runs {params.runs} --png {output.png} --csv {output.csv}"
+        " --html {output.html} --log {log}"

@@ -274,9 +274,11 @@ def final_targets():
         (["table2"], ["results/tables/table2.csv", "results/tables/table2.md", "results/tables/table2.html", model("table2"),
                       "results/figures/gallery.png"]),  # fmt: skip
         (["table1", "table2"], ["results/figures/joint_errors.png", "results/figures/error_over_time.png"]),
-        (["figure4"], ["results/figures/figure4.png", "results/figures/figure4.pdf", "results/tables/figure4.csv"]),
+        (["figure4"], ["results/figures/figure4.png", "results/figures/figure4.pdf", "results/tables/figure4.csv",
+                      "results/tables/figure4.html"]),  # fmt: skip
         ([CLAIMS_EXP], ["results/figures/camera_rigs.png", "results/tables/camera_rigs.csv",
-                        "results/figures/robustness.png", "results/tables/robustness.csv"]),  # fmt: skip
+                        "results/tables/camera_rigs.html", "results/figures/robustness.png",
+                        "results/tables/robustness.csv", "results/tables/robustness.html"]),  # fmt: skip
     ]
     artifacts = [path for exps, paths in needs if set(exps) <= set(EXPERIMENTS) for path in paths]
     artifacts += [f"results/tables/experiments/{exp}.csv" for exp in EXPERIMENTS]

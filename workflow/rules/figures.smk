@@ -10,6 +10,7 @@ rule figure4:  # lint: no conda/container, see Snakefile
         csv=report("results/tables/figure4.csv", caption="../report/figure4_table.rst", category="1 Tables"),
         meta=report("results/tables/figure4.meta.json", caption="../report/provenance.rst",
                     category="Provenance"),  # fmt: skip
+        html=report("results/tables/figure4.html", caption="../report/figure4_table.rst", category="1 Tables"),
     params:
         runs=arg([[label, value, f"{d}/summary.json"] for label, value, d in figure4_runs()]),
         code=code("figure4"),
@@ -21,7 +22,8 @@ rule figure4:  # lint: no conda/container, see Snakefile
         mem_mb=1000,
         runtime=5,
     shell:
-        "voxpose figure4 --runs {params.runs} --png {output.png} --pdf {output.pdf} --csv {output.csv} --log {log}"
+        "voxpose figure4 --runs {params.runs} --png {output.png} --pdf {output.pdf} --csv {output.csv}"
+        " --html {output.html} --log {log}"
 
 
 rule gallery:  # lint: no conda/container, see Snakefile
