@@ -181,6 +181,27 @@ def test_readme_block_is_generated_and_replaced(tables):
     assert readme_tables.normalised("4.1 [3.9, 4.3] 36 varying") == "N [N, N] N varying"
 
 
+def test_named_blocks_are_rewritten_each_from_its_own_run(tmp_path, tables):
+    begin, end = readme_tables.markers("real")
+    readme = tmp_path / "README.md"
+    readme.write_text(f"a\n{readme_tables.BEGIN}\nold default\n{readme_tables.END}\nb\n{begin}\nold real\n{end}\nc\n")
+    assert main(["readme-tables", "--tables", str(tables), "--readme", str(readme), "--block", "real"]) == 0
+    text = readme.read_text()
+    assert readme_tables.block(text, name="real") == readme_tables.markdown(tables)
+    assert readme_tables.block(text) == "old default" and text.endswith(f"{end}\nc\n")
+    assert main(["readme-tables", "--tables", str(tables), "--readme", str(readme), "--block", "other"]) == 2
+
+
+def test_generalisation_block_shows_every_row_with_its_interval():
+    df = pd.DataFrame({"held_out": ["cmu_08", "cmu_08"], "method": ["mvrvm", "mean_pose"], "frames": [300, 300],
+                       "train_frames": [1500, 1500], "full_body": [10.04, 12.1], "full_body_low": [9.51, 11.8],
+                       "full_body_high": [10.66, 12.4], "full_body_varying": [10.9, 13.0],
+                       "varying_angles": [39, 39], "heading": [20.0, 60.0], "mpjpe_mm": [81.4, 99.6]})  # fmt: skip
+    lines = readme_tables.generalisation_markdown(df)
+    assert lines[4] == "| cmu_08 | MPPCA + MVRVM | 300 | 1500 | 10.0 [9.5, 10.7] | 10.9 (39) | 20.0 | 81 |"
+    assert lines[5].startswith("| cmu_08 | mean training pose | 300 | 1500 | 12.1 [11.8, 12.4] |") and len(lines) == 6
+
+
 def test_readme_without_markers_is_a_one_line_error(tmp_path, tables, capsys):
     readme = tmp_path / "README.md"
     readme.write_text("no markers\n")

@@ -7,6 +7,8 @@ HELP = "the README's result tables from results/tables (print, or rewrite the RE
 def add_arguments(p):
     p.add_argument("--tables", default="results/tables", help="folder with table1.csv, table2.csv, claims.csv")
     p.add_argument("--readme", help="rewrite this README's generated block in place (default: print the tables)")
+    p.add_argument("--block", default="", metavar="NAME",
+                   help="the README block to rewrite: none for the default run's, e.g. 'real' for the real-data run's")
 
 
 def run(args):
@@ -25,4 +27,4 @@ def run(args):
     except OSError as err:
         raise VoxposeError(f"{args.readme}: cannot read ({err})") from None
     with atomic_path(args.readme) as tmp:
-        tmp.write_text(replace_block(readme, text, args.readme))
+        tmp.write_text(replace_block(readme, text, args.readme, args.block))
