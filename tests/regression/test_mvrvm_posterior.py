@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from tests.helpers import mvrvm_log_ml, mvrvm_toy
+from voxpose.regression.design_statistics import DesignStatistics
 from voxpose.regression.kernels import design_matrix
 from voxpose.regression.mvrvm_alpha import contribution
 from voxpose.regression.mvrvm_posterior import Posterior
@@ -17,7 +18,7 @@ def test_incremental_factors_match_brute_force():
     phi = design_matrix(x, x, 1.5, bias=True)
     beta = np.array([50.0, 200.0, 80.0])
     cap = np.full(3, 1e12)
-    post = Posterior(phi, y, beta, alignment_max=0.999)
+    post = Posterior(DesignStatistics(x, x, 1.5, True, y), y, beta, alignment_max=0.999)
     lml, _ = post.refresh(update_beta=False, beta_cap=cap)
     moves = [("add", 0, 0.5), ("add", 11, 2.0), ("add", 30, 0.1), ("re", 11, 7.0), ("add", 5, 3.0)]
     moves += [("add", 21, 1.0), ("del", 0, None), ("re", 30, 0.02), ("del", 5, None), ("add", 6, 2.0)]
@@ -59,7 +60,7 @@ def test_noise_update_keeps_the_best_of_old_mackay_and_em():
     x, y, _ = mvrvm_toy(n=60, seed=2)
     phi = design_matrix(x, x, 1.5, bias=True)
     cap = np.full(3, 1e12)
-    post = Posterior(phi, y, np.array([1e4, 1.0, 3.0]), alignment_max=0.999)
+    post = Posterior(DesignStatistics(x, x, 1.5, True, y), y, np.array([1e4, 1.0, 3.0]), alignment_max=0.999)
     post.refresh(update_beta=False, beta_cap=cap)
     for j, alpha in ((0, 1.0), (20, 0.3), (40, 0.3)):
         post.add(j, alpha)

@@ -56,6 +56,7 @@ import numpy as np
 import pandas as pd
 
 from voxpose.errors import ConvergenceWarning, VoxposeError
+from voxpose.regression.design_statistics import DesignStatistics
 from voxpose.regression.kernels import design_matrix, holdout_split, median_pairwise_distance
 from voxpose.regression.mvrvm_alpha import contribution, mode_bounds, newton_ascent, optimal_alpha, series_bound
 from voxpose.regression.mvrvm_posterior import Posterior
@@ -174,11 +175,11 @@ class MVRVM:
         else:
             self.kernel_width_ = positive_number(self.kernel_width, "MVRVM: kernel width")
         self._centres = self._candidate_rows(x.shape[0], start)
-        phi = design_matrix(x, x[self._centres], self.kernel_width_, self.bias)
+        design = DesignStatistics(x, x[self._centres], self.kernel_width_, self.bias, y)
         var = y.var(axis=0)
         scale = np.where(var > 0, var, np.where(np.mean(y * y, axis=0) > 0, np.mean(y * y, axis=0), 1.0))
         cap = self.beta_max / scale
-        post = Posterior(phi, y, np.minimum(_SNR_INIT / scale, cap), self.alignment_max)
+        post = Posterior(design, y, np.minimum(_SNR_INIT / scale, cap), self.alignment_max)
         lml, _ = post.refresh(update_beta=False, beta_cap=cap)
         if start is not None:
             lml = self._warm_start(post, *start, cap)

@@ -16,6 +16,8 @@ factorisation plus the moves' rank-one terms (``Posterior``).
 
 import numpy as np
 
+from voxpose.regression.design_statistics import DesignStatistics
+
 _LOG_2PI = float(np.log(2.0 * np.pi))
 
 
@@ -27,6 +29,8 @@ class Posterior:
     the exclusion ends (its aligned partner deleted), which spares most of the per-move work when many
     training rows are near duplicates.
 
+    The design matrix enters through ``DesignStatistics`` (``voxpose.regression.design_statistics``): its Gram
+    matrix, ``Phi' Y`` and the columns of the basis functions as they become active (``columns``, (N, slots)).
     Basis functions sit in slots (``slot_basis``); a deleted one leaves a dead slot until the next
     ``refresh`` compacts them. ``cross[:, i] = Phi' phi`` of slot i (B,), ``mu`` (P, slots). The covariances
     are kept implicitly, since P explicit (k, k) matrices would make every move cost P k^2 memory traffic:
@@ -37,13 +41,13 @@ class Posterior:
     second the rank-one terms of the moves since (``u`` (P, r, slots), ``weight`` (P, r)).
     """
 
-    def __init__(self, phi: np.ndarray, y: np.ndarray, beta: np.ndarray, alignment_max: float):
-        self.phi, self.y, self.beta = phi, y, beta.copy()
-        self.n, self.n_basis = phi.shape
+    def __init__(self, design: DesignStatistics, y: np.ndarray, beta: np.ndarray, alignment_max: float):
+        self.design, self.y, self.beta = design, y, beta.copy()
+        self.n, self.n_basis = design.n, design.n_basis
         self.p = y.shape[1]
-        self.norms2 = np.einsum("nb,nb->b", phi, phi)
-        self.phity = phi.T @ y
-        self.yy = np.sum(y * y, axis=0)
+        self.norms2 = np.diag(design.gram).copy()
+        self.phity = design.phity
+        self.yy = design.yy
         self.alignment_max = alignment_max
         self.alpha = np.full(self.n_basis, np.inf)
         self.n_aligned = np.zeros(self.n_basis, dtype=np.int64)
@@ -51,6 +55,7 @@ class Posterior:
         self.slot_basis = np.empty(0, dtype=np.int64)
         self.live = np.empty(0, dtype=bool)
         self.cross = np.empty((self.n_basis, 0))
+        self.columns = np.empty((self.n, 0))
         self.mu = np.empty((self.p, 0))
         self.diag = np.empty((self.p, 0))  # diagonal of every Sigma_p over the slots
         self.u = np.empty((self.p, 0, 0))
@@ -78,6 +83,9 @@ class Posterior:
             cross = np.empty((self.n_basis, cap))
             cross[:, :ns] = self.cross[:, :ns]
             self.cross = cross
+            columns = np.empty((self.n, cap))
+            columns[:, :ns] = self.columns[:, :ns]
+            self.columns = columns
             self.mu = np.concatenate([self.mu[:, :ns], np.zeros((self.p, cap - ns))], axis=1)
             self.diag = np.concatenate([self.diag[:, :ns], np.zeros((self.p, cap - ns))], axis=1)
             u = np.zeros((self.p, self.u.shape[1], cap))
@@ -145,7 +153,7 @@ class Posterior:
         """Make basis function ``j`` active with precision ``alpha`` (Tipping & Faul, Appendix A.2)."""
         self._reserve()
         ns = self.n_slots
-        column = self.phi.T @ self.phi[:, j]
+        column = self.design.gram[j]  # a row: the Gram matrix is symmetric
         g = np.where(self.live[:ns], column[self.slot_basis[:ns]], 0.0)
         sv = self.beta[:, None] * self._sigma_times(g)  # (P, ns)
         sig_jj = 1.0 / (alpha + self.S[j])  # (P,)
@@ -158,6 +166,7 @@ class Posterior:
         self.mu[:, ns] = mu_j
         self._correct(np.concatenate([sv, -np.ones((self.p, 1))], axis=1), sig_jj)
         self.cross[:, ns] = column
+        self.columns[:, ns] = self.design.column(j)
         self.slot_basis[ns] = j
         self.live[ns] = True
         self.n_slots = ns + 1
@@ -237,6 +246,8 @@ class Posterior:
         k = act.size
         cross = self.cross[:, keep]
         self.cross[:, :k] = cross
+        phi_act = self.columns[:, keep]
+        self.columns[:, :k] = phi_act
         self.slot_basis[:k] = act
         self.live[:] = False
         self.live[:k] = True
@@ -249,7 +260,6 @@ class Posterior:
         d = np.maximum(d, 0.0)
         w = inv_sqrt_alpha[:, None] * v  # Sigma_p = w diag(1 / (1 + beta_p d)) w'
         z = w.T @ self.phity[act]  # (k, P)
-        phi_act = self.phi[:, act]
 
         def evaluate(beta):
             shrink = 1.0 / (1.0 + beta[None, :] * d[:, None])  # (k, P)
