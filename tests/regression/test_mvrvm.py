@@ -156,10 +156,14 @@ def test_noise_free_targets_hit_the_noise_cap():
     assert np.allclose(model.predict(x), y, atol=1e-2 * y.std())
 
 
-def test_targets_without_signal_give_the_empty_model():
+def test_targets_without_signal_give_the_bias_alone_with_no_weight():
     x, _, _ = mvrvm_toy(n=50, seed=7)
     model = MVRVM(kernel_width=1.5).fit(x, np.zeros((50, 2)))
-    assert model.converged_ and model.relevance_.size == 0 and not model.has_bias_
+    # the fit starts from the bias, which as the last basis function is pruned (alpha -> inf) but never removed
+    assert model.converged_ and model.relevance_.size == 0 and model.has_bias_ and model.alpha_[0] > 1e6
+    assert np.allclose(model.coef_, 0.0, atol=1e-6)
+    without_bias = MVRVM(kernel_width=1.5, bias=False).fit(x, np.zeros((50, 2)))
+    assert without_bias.converged_ and without_bias.alpha_.size == 0
     mean, std = model.predict(x[:3], return_std=True)
     assert np.all(mean == 0.0)
     assert np.allclose(std, 1 / np.sqrt(model.beta_))
@@ -182,13 +186,26 @@ def test_warm_start_resumes_a_fit_on_permuted_rows(toy_fit):
         MVRVM(kernel_width=2.0).fit(x, y, start=(model, np.arange(len(x))))
 
 
+def test_wide_gaussians_fit_beyond_the_mean():
+    """Gaussians twice as wide as the rows' spread are nearly constant, but together they still span a line and
+    a parabola: the fit recovers both (planted noise 0.05) with a few relevance vectors besides the bias. (With
+    uncentred alignment tests every Gaussian was collinear with the first: that fit stopped at the mean, 0.3.)"""
+    rng = np.random.default_rng(0)
+    x = np.sort(rng.uniform(-10, 10, 150))[:, None]
+    clean = np.stack([0.05 * x[:, 0], (x[:, 0] / 10) ** 2 - 1 / 3], axis=1)
+    model = MVRVM(kernel_width=40.0).fit(x, clean + 0.05 * rng.standard_normal(clean.shape))
+    assert model.converged_ and model.has_bias_ and 2 <= len(model.relevance_) <= 10
+    assert np.all(np.sqrt(np.mean((model.predict(x) - clean) ** 2, axis=0)) < 0.015)
+    assert np.allclose(1 / np.sqrt(model.beta_), 0.05, rtol=0.15)
+
+
 def test_the_last_basis_function_is_never_removed():
     x, y, _ = mvrvm_toy(n=50, seed=7)
     with pytest.warns(ConvergenceWarning):
-        one = MVRVM(kernel_width=1.5, max_iter=1).fit(x, y)  # a single move: one basis function
+        one = MVRVM(kernel_width=1.5, bias=False, max_iter=1).fit(x, y)  # a single move: one Gaussian
     assert one.alpha_.size == 1
     # on targets without signal the function's optimal alpha is infinite; as the last one it stays, pruned
-    model = MVRVM(kernel_width=1.5).fit(x, np.zeros((50, 3)), start=(one, np.arange(50)))
+    model = MVRVM(kernel_width=1.5, bias=False).fit(x, np.zeros((50, 3)), start=(one, np.arange(50)))
     assert model.converged_ and model.alpha_.size == 1 and model.alpha_[0] > 1e6
     assert np.allclose(model.predict(x), 0.0, atol=1e-6)
 

@@ -79,3 +79,27 @@ def test_noise_update_keeps_the_best_of_old_mackay_and_em():
         values = [mvrvm_log_ml(pa, y[:, [p]], alpha, np.array([b])) for b in options]
         assert post.beta[p] == pytest.approx(options[int(np.argmax(values))], rel=1e-9)
     assert after == pytest.approx(mvrvm_log_ml(pa, y, alpha, post.beta), rel=1e-10)
+
+
+@pytest.mark.parametrize("bias", [True, False])
+def test_alignment_counts_match_brute_force_cosines(bias):
+    """A candidate is excluded while its cosine with an active basis function exceeds the limit: of the centred
+    columns (means over the rows removed) when there is a bias column, else of the columns themselves. At a
+    width twice the rows' spread every Gaussian is within an uncentred cosine of 0.999 of one of two active ones,
+    but few are when centred."""
+    x = np.linspace(-10.0, 10.0, 41)[:, None]
+    y = np.stack([0.05 * x[:, 0], (x[:, 0] / 10) ** 2], axis=1)
+    post = Posterior(DesignStatistics(x, x, 40.0, bias, y), y, np.array([100.0, 100.0]), alignment_max=0.999)
+    post.refresh(update_beta=False, beta_cap=np.full(2, 1e12))
+    active = [int(bias) + 3, int(bias) + 30]
+    for j in active:
+        post.add(j, 1.0)
+    phi = design_matrix(x, x, 40.0, bias)
+    columns = phi - phi.mean(axis=0) if bias else phi
+    norms = np.linalg.norm(columns, axis=0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cosine = (columns.T @ columns[:, active]) / np.outer(norms, norms[active])
+    expected = np.sum(cosine > 0.999, axis=1)
+    np.testing.assert_array_equal(post.n_aligned, expected)
+    # uncentred, every Gaussian is excluded; centred, only the 7 nearest the two active ones (3 and 30)
+    assert np.count_nonzero(expected) == (7 if bias else 41)

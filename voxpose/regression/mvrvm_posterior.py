@@ -29,6 +29,12 @@ class Posterior:
     the exclusion ends (its aligned partner deleted), which spares most of the per-move work when many
     training rows are near duplicates.
 
+    The alignment test compares *centred* columns (their means over the rows removed) when the design has a
+    bias column, since any multiple of the bias can be added to a column within the model: a Gaussian much
+    wider than the rows' spread is then judged by how it varies, not by its nearly constant level. (With
+    uncentred cosines every wide Gaussian counted as collinear with the first one added, and the fit
+    stopped at the mean pose: at 3 times the median distance, 1 basis function against 190.)
+
     The design matrix enters through ``DesignStatistics`` (``voxpose.regression.design_statistics``): its Gram
     matrix, ``Phi' Y`` and the columns of the basis functions as they become active (``columns``, (N, slots)).
     Basis functions sit in slots (``slot_basis``); a deleted one leaves a dead slot until the next
@@ -49,6 +55,8 @@ class Posterior:
         self.phity = design.phity
         self.yy = design.yy
         self.alignment_max = alignment_max
+        self.sums = design.gram[0] if design.bias else np.zeros(self.n_basis)  # Phi' 1: the bias row
+        self.align_norms2 = self.norms2 - self.sums * self.sums / self.n  # of the centred columns
         self.alpha = np.full(self.n_basis, np.inf)
         self.n_aligned = np.zeros(self.n_basis, dtype=np.int64)
         self.n_slots = self.n_corrections = 0
@@ -144,9 +152,10 @@ class Posterior:
         return s, q
 
     def _aligned(self, column: np.ndarray, j: int) -> np.ndarray:
-        """Basis functions whose cosine with basis function ``j`` (its ``cross`` column) exceeds the limit."""
+        """Basis functions whose cosine with basis function ``j`` (its ``cross`` column) exceeds the limit; the
+        bias, centred to nothing, is aligned with none."""
         with np.errstate(divide="ignore", invalid="ignore"):
-            cosine = column / np.sqrt(self.norms2 * self.norms2[j])
+            cosine = (column - self.sums * (self.sums[j] / self.n)) / np.sqrt(self.align_norms2 * self.align_norms2[j])
         return cosine > self.alignment_max
 
     def add(self, j: int, alpha: float) -> None:
