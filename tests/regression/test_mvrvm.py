@@ -4,6 +4,7 @@ a classic single-output RVM (Tipping 2001), planted noise levels, and dense sear
 import warnings
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from tests.helpers import mvrvm_log_ml, mvrvm_toy
@@ -220,6 +221,27 @@ def test_select_kernel_width_uses_held_out_rows():
     groups = np.repeat(np.arange(6), 20)
     width_g, table_g, _ = select_kernel_width(x, y, widths=[1.0, 2.0], groups=groups, random_state=0)
     assert width_g in (1.0, 2.0) and table_g["scale"].isna().all()
+
+
+def test_select_kernel_width_on_drawn_rows_is_the_selection_on_those_rows():
+    """With ``max_rows``, the same seeded rows passed directly give the same table and the same candidate (its
+    rows mapped back); with at least as many ``max_rows`` as rows, nothing changes."""
+    x, y, _ = mvrvm_toy(n=120, seed=6)
+    groups = np.repeat(np.arange(12), 10)
+    kwargs = {"scales": (0.5, 2.0), "random_state": 3}
+    width, table, (model, rows) = select_kernel_width(x, y, groups=groups, max_rows=60, **kwargs)
+    drawn = np.sort(np.random.default_rng(3).choice(120, size=60, replace=False))
+    width_d, table_d, (model_d, rows_d) = select_kernel_width(x[drawn], y[drawn], groups=groups[drawn], **kwargs)
+    assert width == width_d
+    pd.testing.assert_frame_equal(table, table_d)
+    np.testing.assert_array_equal(rows, drawn[rows_d])
+    np.testing.assert_array_equal(model.coef_, model_d.coef_)
+    _, table_all, (_, rows_all) = select_kernel_width(x, y, groups=groups, max_rows=120, **kwargs)
+    _, table_none, (_, rows_none) = select_kernel_width(x, y, groups=groups, **kwargs)
+    pd.testing.assert_frame_equal(table_all, table_none)
+    np.testing.assert_array_equal(rows_all, rows_none)
+    with pytest.raises(VoxposeError, match="max_rows"):
+        select_kernel_width(x, y, max_rows=0, **kwargs)
 
 
 @pytest.mark.parametrize(

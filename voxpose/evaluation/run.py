@@ -194,6 +194,22 @@ class Fit:
 BASELINES = {"mean_pose": MeanPose, "nearest_neighbour": NearestNeighbour, "kernel_ridge": KernelRidge}
 
 
+def fit_mvrvm(x: np.ndarray, z: np.ndarray, groups: np.ndarray, cfg: dict, seed: int):
+    """The MVRVM of the config's ``regression`` section ``cfg`` fitted on features ``x`` to pose-PCA coordinates
+    ``z``, its width chosen on held-out ``groups`` (motions) when ``auto``; returns (model, width table or None)."""
+    params = {"max_iter": cfg["max_iter"], "tol": cfg["tol"], "max_candidates": cfg.get("max_candidates")}
+    width_table = start = None
+    width = cfg["kernel_width"]
+    if width == "auto":
+        # the candidate widths are only ranked, so their fits get a smaller budget (and at most
+        # selection_max_rows rows) than the final fit, which starts from the chosen candidate (MVRVM._warm_start)
+        budget = min(cfg["max_iter"], cfg.get("selection_max_iter") or cfg["max_iter"])
+        width, width_table, start = select_kernel_width(x, z, scales=cfg["width_scales"], groups=groups,
+                                                        random_state=seed, max_rows=cfg.get("selection_max_rows"),
+                                                        **params | {"max_iter": budget})  # fmt: skip
+    return MVRVM(kernel_width=width, random_state=seed, **params).fit(x, z, start=start), width_table
+
+
 def fit(features: dict, motions: dict, train: list, cfg: dict, seed: int) -> Fit:
     """Fit the pose PCA (Eq. 1), the MVRVM (Section 3, kernel width chosen on held-out training motions) and
     the baselines on the ``train`` motions' frames that have features.
@@ -214,17 +230,7 @@ def fit(features: dict, motions: dict, train: list, cfg: dict, seed: int) -> Fit
     z_train = pca.transform(y_train)
     log.info("pose PCA: M = %d components keep %.1f %% of the variance (Eq. 1)", pca.n_components_,
              100 * pca.explained_variance_ratio_.sum())  # fmt: skip
-    mvrvm_params = {"max_iter": cfg["max_iter"], "tol": cfg["tol"], "max_candidates": cfg.get("max_candidates")}
-    width_table = start = None
-    width = cfg["kernel_width"]
-    if width == "auto":
-        # the candidate widths are only ranked, so their fits get a smaller budget than the final fit, which
-        # starts from the chosen candidate (MVRVM._warm_start)
-        budget = min(cfg["max_iter"], cfg.get("selection_max_iter") or cfg["max_iter"])
-        width, width_table, start = select_kernel_width(x_train, z_train, scales=cfg["width_scales"],
-                                                        groups=groups, random_state=seed, **mvrvm_params
-                                                        | {"max_iter": budget})  # fmt: skip
-    model = MVRVM(kernel_width=width, random_state=seed, **mvrvm_params).fit(x_train, z_train, start=start)
+    model, width_table = fit_mvrvm(x_train, z_train, groups, cfg, seed)
     log.info("MVRVM: kernel width %.4g, %d of %d relevance vectors, converged %s after %d iterations",
              model.kernel_width_, len(model.relevance_), len(x_train), model.converged_, model.n_iter_)  # fmt: skip
     baselines = {

@@ -467,6 +467,7 @@ def select_kernel_width(
     groups=None,
     validation_fraction: float = 0.2,
     random_state=None,
+    max_rows: int | None = None,
     **params,
 ) -> tuple[float, pd.DataFrame, tuple[MVRVM, np.ndarray]]:
     """Choose the MVRVM kernel width on held-out *training* rows (the caller passes training data only).
@@ -477,6 +478,10 @@ def select_kernel_width(
     validation RMSE, ``sqrt(mean over rows of ||y - y_hat||^2)`` (for PCA pose coordinates this is the
     RMS angle-vector error of the reconstructed poses, since the components are orthonormal); ties go
     to the smaller width. Refit on all training rows with the chosen width afterwards, from ``start``.
+
+    With more than ``max_rows`` rows, all of this happens on ``max_rows`` of them drawn at random (seeded by
+    ``random_state``), exactly as if only those had been passed: the widths are only ranked, and the
+    selection's fits would otherwise cost as much as the final one for every width (None: every row).
 
     Returns
     -------
@@ -490,7 +495,12 @@ def select_kernel_width(
     y = as_rows(y[:, None] if y.ndim == 1 else y, "kernel width selection: Y")
     if x.shape[0] != y.shape[0]:
         raise VoxposeError(f"kernel width selection: X has {x.shape[0]} rows but Y has {y.shape[0]}")
-    fit_rows, val_rows = holdout_split(x.shape[0], validation_fraction, groups, random_state)
+    drawn = np.arange(x.shape[0])
+    if max_rows is not None and x.shape[0] > integer(max_rows, "kernel width selection: max_rows"):
+        drawn = np.sort(np.random.default_rng(random_state).choice(x.shape[0], size=max_rows, replace=False))
+    fit_rows, val_rows = holdout_split(drawn.size, validation_fraction,
+                                       None if groups is None else np.asarray(groups)[drawn], random_state)  # fmt: skip
+    fit_rows, val_rows = drawn[fit_rows], drawn[val_rows]
     if widths is None:
         base = median_pairwise_distance(x[fit_rows], random_state=random_state)
         scale_list = [float(s) for s in scales]
