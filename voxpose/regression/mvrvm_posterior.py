@@ -26,8 +26,9 @@ class Posterior:
 
     S and Q are kept for the *tracked* basis functions (``rows``): the active ones and those not excluded
     by the alignment test; an excluded one is never a candidate, so its factors are recomputed only when
-    the exclusion ends (its aligned partner deleted), which spares most of the per-move work when many
-    training rows are near duplicates.
+    the exclusion ends (its aligned partner deleted). The moves' products with ``cross`` run over every basis
+    function (a slice, no copy) and keep the tracked rows' results: copying the tracked rows out first took
+    twice as long as the product (2650 basis functions, 1200 slots, 12 outputs: 11.6 ms against 5.4).
 
     The alignment test compares *centred* columns (their means over the rows removed) when the design has a
     bias column, since any multiple of the bias can be added to a column within the model: a Gaussian much
@@ -168,7 +169,7 @@ class Posterior:
         sig_jj = 1.0 / (alpha + self.S[j])  # (P,)
         mu_j = sig_jj * self.Q[j]
         rows = self.rows
-        e = self.beta * (column[rows, None] - self.cross[rows, :ns] @ sv.T)  # (tracked, P)
+        e = self.beta * (column[rows, None] - (self.cross[:, :ns] @ sv.T)[rows])  # (tracked, P)
         self.S[rows] -= sig_jj * e * e
         self.Q[rows] -= mu_j * e
         self.mu[:, :ns] -= mu_j[:, None] * sv
@@ -203,7 +204,7 @@ class Posterior:
         mu_i = self.mu[:, i].copy()
         self.mu[:, :ns] -= (kappa * mu_i)[:, None] * col
         rows = self.rows
-        t = self.beta * (self.cross[rows, :ns] @ col.T)  # (tracked, P)
+        t = self.beta * (self.cross[:, :ns] @ col.T)[rows]  # (tracked, P)
         self.S[rows] += kappa * t * t
         self.Q[rows] += kappa * mu_i * t
         self._correct(col, -kappa)
