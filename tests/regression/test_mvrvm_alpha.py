@@ -46,17 +46,24 @@ def test_optimal_alpha_finds_the_better_of_two_maxima():
     assert value[0] == pytest.approx(grid_max(s[0], q2[0]), rel=1e-9)
 
 
-def test_bounds_enclose_the_maximum():
+@pytest.mark.parametrize("subdivisions", [1, 2, 4, 8])
+def test_bounds_enclose_the_maximum(subdivisions):
+    """Upper bounds above the dense-grid maximum, feasible values below it and equal to l where they are; a
+    finer grid never loosens the bound and here tightens it on average."""
     rng = np.random.default_rng(5)
     s = np.exp(rng.normal(0, 1, size=(100, 4))) * np.exp(rng.normal(0, 2, size=(100, 1)))
     q2 = s * np.exp(rng.normal(-0.3, 1.0, size=(100, 4)))
     best = np.array([grid_max(a, b) for a, b in zip(s, q2, strict=True)])
-    mode_value, mode_alpha, upper = mvrvm_alpha.mode_bounds(s, q2)
+    mode_value, mode_alpha, upper = mvrvm_alpha.mode_bounds(s, q2, subdivisions)
     assert np.all(upper >= best - 1e-9)
     assert np.all(mvrvm_alpha.series_bound(s, q2) >= best - 1e-9)
     finite = np.isfinite(mode_alpha)
     assert np.all(mode_value[finite] <= best[finite] + 1e-12)
     assert np.allclose(mode_value[finite], mvrvm_alpha.contribution(mode_alpha[finite], s[finite], q2[finite]))
+    coarse_value, _, coarse_upper = mvrvm_alpha.mode_bounds(s, q2)
+    assert np.all(upper <= coarse_upper + 1e-12) and np.all(mode_value >= coarse_value)
+    if subdivisions > 1:
+        assert np.mean(upper - best) < np.mean(coarse_upper - best)
 
 
 def test_newton_ascent_reaches_a_local_maximum():

@@ -12,19 +12,19 @@ The marginal likelihood, its sparsity and quality factors and the optimal shared
 function are in ``voxpose.regression.mvrvm_alpha``; the posterior and its rank-one updates in
 ``voxpose.regression.mvrvm_posterior``.
 
-Training (Tipping & Faul 2003, Sec. 4, with the shared alpha). Start from the bias alone (``MVRVM._bias_start``;
-the empty model without a bias; with ``fit(start=...)``, from another fit's relevance vectors, precisions and
-noise: ``MVRVM._warm_start``). Each
-iteration finds the move with the largest gain in ``L``: add an inactive basis function at its optimal
-alpha, re-estimate an active one, or delete one (never the last). Active basis functions are ranked by
-deletion and by two Newton steps towards their nearest optimum, and the best-ranked re-estimate then
-goes to its global optimum; inactive ones go through branch and bound with two cheap upper bounds on
-``max l`` (``series_bound``, ``mode_bounds``), so only the few whose bound beats the best gain so far
-are solved exactly. Moves update ``mu_p``, ``S``, ``Q`` and the covariances of every output by the
-rank-one formulas of Tipping & Faul's appendix. Termination (SparseBayes's rule) is proposed when no move
-raises ``L``, or when the best move is a re-estimate changing ``log alpha`` by less than ``tol`` and no
-addition or deletion would raise ``L`` (all candidates then solved exactly); it stands when the noise
-re-estimate changes no ``log beta_p`` by ``tol_beta`` or more. ``max_iter`` bounds the iterations.
+Training (Tipping & Faul 2003, Sec. 4, with the shared alpha). Start from the bias alone
+(``MVRVM._bias_start``; the empty model without a bias; with ``fit(start=...)``, from another fit's relevance
+vectors, precisions and noise: ``MVRVM._warm_start``). Each iteration finds the move with the largest gain in
+``L``: add an inactive basis function at its optimal alpha, re-estimate an active one, or delete one (never
+the last). Active basis functions are ranked by deletion and by two Newton steps towards their nearest
+optimum, and the best-ranked re-estimate then goes to its global optimum; inactive ones go through branch and
+bound with two cheap upper bounds on ``max l`` (``series_bound``, ``mode_bounds`` on the modes, then on a
+finer grid), so only the few whose bound beats the best gain so far are solved exactly. Moves update ``mu_p``,
+``S``, ``Q`` and the covariances of every output by the rank-one formulas of Tipping & Faul's appendix.
+Termination (SparseBayes's rule) is proposed when no move raises ``L``, or when the best move is a re-estimate
+changing ``log alpha`` by less than ``tol`` and no addition or deletion would raise ``L`` (all candidates then
+solved exactly); it stands when the noise re-estimate changes no ``log beta_p`` by ``tol_beta`` or more.
+``max_iter`` bounds the iterations.
 
 Noise: per output, Tipping's re-estimate ``beta_p = (N - gamma_p) / ||y_p - Phi mu_p||^2`` with
 ``gamma_p = sum_m (1 - alpha_m Sigma_p,mm)``, capped at ``beta_max / v_p`` (``v_p`` the variance of output
@@ -68,6 +68,7 @@ log = logging.getLogger(__name__)
 _SNR_INIT = 100.0  # initial beta_p * v_p: noise standard deviation 10 % of the target's (SparseBayes)
 _MIN_GAIN = 1e-8  # a move must raise log L by more than this (nats): smaller is round-off
 _BATCH = 32  # basis functions solved exactly per batch in the branch and bound
+_SUBDIVISIONS = 4  # grid points per interval between modes for the finer bounds (mode_bounds)
 _RANK_NEWTON = 2  # Newton steps ranking the active basis functions' re-estimates
 _BETA_UPDATE_START = 10  # noise re-estimated after each of the first iterations (SparseBayes)
 _MIN_CORRECTIONS = 32  # rank-one covariance terms allowed before a recomputation, at least
@@ -308,10 +309,13 @@ class MVRVM:
         from the current alpha; the best-ranked re-estimate is then solved
         exactly (``optimal_alpha``, its global optimum). Inactive ones go through branch and bound: those
         whose ``series_bound`` beats the best gain so far get a feasible gain and a second upper bound
-        from ``mode_bounds``; only those whose bounds both beat it are solved exactly, in batches of
-        decreasing bound. With ``exhaustive``, every active function is solved exactly, every inactive
-        one whose bounds beat the best addition or deletion too, and a re-estimate is returned only when
-        no addition or deletion would raise the likelihood (SparseBayes's termination test).
+        from ``mode_bounds``, those whose bound still beats it a tighter one from a finer grid; only those
+        whose bounds all beat it are solved exactly, in batches of decreasing bound. (Real Table 1 rows,
+        12 outputs, 1335 candidates late in a fit: 125 bounds above the best gain from the modes alone,
+        31 from the finer grid; an exact solve costs as much as the finer bound of 13 candidates.) With
+        ``exhaustive``, every active function is solved exactly, every inactive one whose bounds beat the
+        best addition or deletion too, and a re-estimate is returned only when no addition or deletion
+        would raise the likelihood (SparseBayes's termination test).
         """
         s, q = post.factors()
         q2 = q * q
@@ -355,6 +359,10 @@ class MVRVM:
         if ina.size:
             mode_value, mode_alpha, upper = mode_bounds(s[ina], q2[ina])
             offer(ina, mode_alpha, mode_value)
+            ina, upper = ina[upper > threshold[1]], upper[upper > threshold[1]]
+        if ina.size:  # a finer grid for those left: tighter bounds, and fewer exact solves
+            grid_value, grid_alpha, upper = mode_bounds(s[ina], q2[ina], _SUBDIVISIONS)
+            offer(ina, grid_alpha, grid_value)
             rank = np.argsort(-upper, kind="stable")
             order, upper = ina[rank], upper[rank]
         start = 0

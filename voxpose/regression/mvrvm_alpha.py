@@ -44,35 +44,47 @@ def contribution(alpha, s, q2) -> np.ndarray:
     return 0.5 * np.sum(q2 / (a + s) - np.log1p(s / a), axis=-1)
 
 
-def mode_bounds(s, q2) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def mode_bounds(s, q2, subdivisions: int = 1) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Cheap lower and upper bounds on ``max l`` for many basis functions at once; s, q2 (n, P).
 
     Each output's term ``l_p`` is unimodal in ``log alpha`` (it rises to its maximum at the single-output
-    optimum ``s^2 / (q^2 - s)`` when ``q^2 > s``, else rises towards 0 at infinity). Evaluating ``l`` at
-    these P modes gives feasible values (lower bounds); between two consecutive modes every ``l_p`` is
-    monotone, so its maximum there is at one end, which bounds ``l`` on that interval from above.
+    optimum ``s^2 / (q^2 - s)`` when ``q^2 > s``, else rises towards 0 at infinity). So between two
+    consecutive points of a grid that contains these P modes, every ``l_p`` is monotone, its maximum there
+    is at one end, and ``sum_p max(l_p(left), l_p(right))`` bounds ``l`` on that interval from above (below
+    the smallest mode every ``l_p`` rises). The grid is the modes and infinity; with ``subdivisions`` k > 1,
+    also k - 1 points evenly spaced in ``log alpha`` between consecutive modes and k - 1 beyond the largest
+    (at ``e^1, e^2, e^4, ...`` times it), which tightens the bound where it matters at the cost of
+    evaluating ``l`` at about k P points. ``l`` at the finite grid points gives feasible values.
 
     Returns
     -------
-    best_value : (n,) largest ``l`` at a finite mode (-inf when there is none).
-    best_alpha : (n,) that mode (inf when there is none).
+    best_value : (n,) largest ``l`` at a finite grid point (-inf when there is none).
+    best_alpha : (n,) that point (inf when there is none).
     upper : (n,) upper bound on ``l`` over (0, inf].
     """
-    n, p = s.shape
+    n = s.shape[0]
     wants = q2 > s
     with np.errstate(divide="ignore"):
         mode = np.where(wants, s * s / np.where(wants, q2 - s, 1.0), np.inf)
-    order = np.argsort(mode, axis=1)
+    order = np.argsort(mode, axis=1)  # outputs in the order of their modes
     ss, qs = np.take_along_axis(s, order, 1), np.take_along_axis(q2, order, 1)
-    points = np.concatenate([np.take_along_axis(mode, order, 1), np.full((n, 1), np.inf)], axis=1)
+    points = np.take_along_axis(mode, order, 1)
+    if subdivisions > 1:
+        with np.errstate(divide="ignore", invalid="ignore"):  # rows without a mode get no extra points
+            log_mode = np.log(points)
+            last = np.max(np.where(np.isfinite(log_mode), log_mode, -np.inf), axis=1, keepdims=True)
+            ends = np.where(np.isfinite(log_mode), log_mode, last)  # outputs without a mode: at the largest one
+            frac = np.arange(1, subdivisions) / subdivisions
+            inner = (ends[:, :-1, None] + np.diff(ends, axis=1)[:, :, None] * frac).reshape(n, -1)
+            extra = np.exp(np.concatenate([inner, last + 2.0 ** np.arange(subdivisions - 1)], axis=1))
+        extra = np.where(np.any(wants, axis=1)[:, None], extra, np.inf)
+        points = np.sort(np.concatenate([points, extra], axis=1), axis=1)
+    points = np.concatenate([points, np.full((n, 1), np.inf)], axis=1)
     a = points[:, :, None]
-    terms = 0.5 * (qs[:, None, :] / (a + ss[:, None, :]) - np.log1p(ss[:, None, :] / a))  # (n, P+1, P)
-    total = terms.sum(axis=2)
-    partial = np.cumsum(terms, axis=2)
-    i = np.arange(p)
-    # on [point_i, point_i+1]: sorted outputs r <= i decrease (max at the left end), r > i increase
-    upper = np.max(partial[:, i, i] + total[:, i + 1] - partial[:, i + 1, i], axis=1)
-    finite_total = np.where(np.isfinite(points[:, :p]), total[:, :p], -np.inf)
+    terms = 0.5 * (qs[:, None, :] / (a + ss[:, None, :]) - np.log1p(ss[:, None, :] / a))  # (n, grid, P)
+    upper = np.max(np.sum(np.maximum(terms[:, :-1], terms[:, 1:]), axis=2), axis=1)
+    total = terms[:, :-1].sum(axis=2)
+    finite_total = np.where(np.isfinite(points[:, :-1]), total, -np.inf)
     best = np.argmax(finite_total, axis=1)
     rows = np.arange(n)
     return finite_total[rows, best], points[rows, best], upper
