@@ -103,3 +103,19 @@ def test_alignment_counts_match_brute_force_cosines(bias):
     np.testing.assert_array_equal(post.n_aligned, expected)
     # uncentred, every Gaussian is excluded; centred, only the 7 nearest the two active ones (3 and 30)
     assert np.count_nonzero(expected) == (7 if bias else 41)
+
+
+def test_a_non_positive_variance_marks_the_posterior_degraded_until_a_refresh():
+    x, y, _ = mvrvm_toy(n=40, seed=1)
+    cap = np.full(3, 1e12)
+    post = Posterior(DesignStatistics(x, x, 1.5, True, y), y, np.array([50.0, 200.0, 80.0]), alignment_max=0.999)
+    post.refresh(update_beta=False, beta_cap=cap)
+    for j, alpha in ((0, 0.5), (11, 2.0), (30, 0.1)):
+        post.add(j, alpha)
+    post.delete(11)  # a dead slot's variance is ~0 and does not count
+    assert not post.degraded
+    live = np.flatnonzero(post.live[: post.n_slots])
+    post.diag[1, live[-1]] = -1e-9  # as accumulated rank-one round-off leaves it
+    assert post.degraded
+    post.refresh(update_beta=False, beta_cap=cap)
+    assert not post.degraded

@@ -213,6 +213,7 @@ class MVRVM:
                 if (
                     it <= _BETA_UPDATE_START
                     or post.n_corrections > max(_MIN_CORRECTIONS, post.n_slots)
+                    or post.degraded
                     or (it >= next_check and post.noise_change(cap) > self.tol)
                 ):
                     lml, _ = post.refresh(update_beta=True, beta_cap=cap)
