@@ -34,7 +34,8 @@ class Posterior:
     bias column, since any multiple of the bias can be added to a column within the model: a Gaussian much
     wider than the rows' spread is then judged by how it varies, not by its nearly constant level. (With
     uncentred cosines every wide Gaussian counted as collinear with the first one added, and the fit
-    stopped at the mean pose: at 3 times the median distance, 1 basis function against 190.)
+    stopped at the mean pose: on the real Table 2 training rows at 3 times the median distance, 1 basis function
+    and a held-out RMSE of 104.4, against 208 and 76.1 with centred ones.)
 
     The design matrix enters through ``DesignStatistics`` (``voxpose.regression.design_statistics``): its Gram
     matrix, ``Phi' Y`` and the columns of the basis functions as they become active (``columns``, (N, slots)).
