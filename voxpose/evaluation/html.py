@@ -15,7 +15,7 @@ import pandas as pd
 from voxpose.io.atomic import atomic_path
 
 _STYLE = """
-body { font: 15px/1.45 -apple-system, "Segoe UI", Helvetica, Arial, sans-serif; color: #222; margin: 12px; }
+body { font: 15px/1.45 -apple-system, "Segoe UI", Helvetica, Arial, sans-serif; color: #222; margin: 8px; }
 h1 { font-size: 21px; margin: 4px 0 8px; } h2 { font-size: 18px; margin: 18px 0 6px; }
 table { border-collapse: collapse; margin: 6px 0 4px; }
 th, td { border: 1px solid #bbb; padding: 3px 5px; } th { background: #eee; text-align: center; }
