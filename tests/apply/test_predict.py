@@ -11,6 +11,7 @@ import pytest
 from tests.helpers import without_frame
 from voxpose.apply.model_file import load_model
 from voxpose.apply.outputs import read_record
+from voxpose.apply.root_fit import fit_roots
 from voxpose.cli.main import main
 from voxpose.descriptors.file import read_descriptors
 from voxpose.evaluation import metrics
@@ -120,6 +121,11 @@ def test_predict_from_voxels_carries_truth_and_renders(trained, tmp_path):
     np.testing.assert_array_equal(prediction.true_angles, workflow["true"])
     assert prediction.fps == 30.0 and meta["source"] == {"voxels": str(d / f"vox_{TEST}.h5")}
     np.testing.assert_array_equal(skeleton.offsets, load_model(d / "model.h5").skeleton.offsets)
+    # the root is the estimated body's fit to the hull (tests/apply/test_root_fit.py), in the record and the BVH
+    fitted = fit_roots(prediction.voxels, prediction.angles, prediction.valid, skeleton)
+    np.testing.assert_array_equal(prediction.root, fitted)
+    np.testing.assert_allclose(angles_from_bvh(read_bvh(tmp_path / "v.bvh"))[1], fitted - prediction.voxels.shifts,
+                               atol=1e-8)  # fmt: skip
     run("render", tmp_path / "v.h5", "--every", 6, "-o", tmp_path / "v.gif")
     from PIL import Image
 
