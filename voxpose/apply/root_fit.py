@@ -1,13 +1,14 @@
 """Where the subject stands: the root position that puts the estimated body on the carved visual hull.
 
 The regressor estimates joint angles only (Section 2), so the skeleton still has to be placed. The hull's
-centroid will not do: a long dress or raised arms move the centroid but not the pelvis. A dress can put the
-centroid 25 cm below the root. Instead the body model posed by the estimated angles (``voxpose.apply.posed_body``,
-the model's output skeleton) is translated to where it overlaps the hull most: the root is the translation
-``t`` maximising ``|hull ∩ body(t)|``, the number of hull voxels whose centres the translated body fills.
-The body is (nearly) a subset of its visual hull, so this is also the translation that leaves the fewest body
-voxels outside the hull, and extra hull volume (dress, phantom volume of the carving) only matters where
-the body could move inside it. Only a translation is fitted; the angles stay the regressor's.
+centroid will not do: a long dress or raised arms move the centroid but not the pelvis (in
+``tests/apply/test_root_fit.py`` a long dress puts the centroid 32-35 cm below the root). Instead the body
+model posed by the estimated angles (``voxpose.apply.posed_body``, the model's output skeleton) is translated
+to where it overlaps the hull most: the root is the translation with the most hull voxels whose centres the
+translated body fills. The body's own volume does not change with the translation, so this is also the one
+with the fewest body voxels outside the hull (and the smallest symmetric difference); extra hull volume
+(a dress, the carving's phantom volume) only matters where the body could move inside it. Only a
+translation is fitted; the angles stay the regressor's.
 
 Search, per frame, starting from the hull's centroid ``c0``: the body posed at ``c0`` is voxelized on the
 hull's grid (``voxpose.voxels.occupancy``), so that a shift by whole voxels moves it exactly.
@@ -31,6 +32,7 @@ import numpy as np
 from scipy import fft
 
 from voxpose.apply.posed_body import posed_body
+from voxpose.errors import VoxposeError
 from voxpose.motion.output_skeleton import OutputSkeleton
 from voxpose.voxels.occupancy import occupied_voxels
 from voxpose.voxels.sequence import VoxelSequence
@@ -64,6 +66,8 @@ def fit_roots(seq: VoxelSequence, angles, valid, skeleton: OutputSkeleton, *, pr
     for b in range(0, len(todo), BATCH):
         frames = todo[b : b + BATCH]
         body_frame, body = occupied_voxels(posed_body(angles[frames], skeleton, start[frames]), seq.l_res)
+        if np.unique(body_frame).size < len(frames):
+            raise VoxposeError(f"root fit {name}: the body model fills no voxel of {seq.l_res:.3g} m")
         counts = np.diff(seq.offsets)[frames]
         hull_frame = np.repeat(np.arange(len(frames)), counts)
         hull = seq.ijk[np.arange(counts.sum()) + np.repeat(seq.offsets[frames] - np.cumsum(counts) + counts, counts)]
@@ -76,27 +80,25 @@ def fit_roots(seq: VoxelSequence, angles, valid, skeleton: OutputSkeleton, *, pr
     return roots
 
 
-def _segments(frame, n):
-    """Start of each frame's run in ``frame`` (sorted), (n + 1,)."""
-    return np.searchsorted(frame, np.arange(n + 1))
-
-
 def _box(frame, ijk, n):
     """Per-frame lowest index (n, 3) and extent (n, 3) of voxels sorted by frame (every frame non-empty)."""
-    starts = _segments(frame, n)[:-1]
+    starts = np.searchsorted(frame, np.arange(n))
     lo = np.minimum.reduceat(ijk, starts, axis=0)
     return lo, np.maximum.reduceat(ijk, starts, axis=0) - lo + 1
 
 
-def _dense(frame, ijk, lo, shape, n, dtype):
-    """Occupancy counts (n, *shape) of voxels at ``ijk - lo[frame]`` (all in range)."""
-    rel = ijk - lo[frame]
-    flat = ((frame * shape[0] + rel[:, 0]) * shape[1] + rel[:, 1]) * shape[2] + rel[:, 2]
-    return np.bincount(flat, minlength=n * int(np.prod(shape))).astype(dtype).reshape(n, *shape)
+def _flat(frame, rel, shape):
+    """Flat indices into an (n, *shape) array of per-frame voxel indices ``rel``."""
+    return ((frame * shape[0] + rel[:, 0]) * shape[1] + rel[:, 1]) * shape[2] + rel[:, 2]
+
+
+def _counts(frame, ijk, lo, shape, n):
+    """Voxel counts (n, *shape) at ``ijk - lo[frame]`` (all in range)."""
+    return np.bincount(_flat(frame, ijk - lo[frame], shape), minlength=n * int(np.prod(shape))).reshape(n, *shape)
 
 
 def _vertex(minus, centre, plus):
-    """Offset in (-0.5, 0.5) of a symmetric V's apex through (-1, minus), (0, centre), (1, plus); 0 if flat."""
+    """Offset in [-0.5, 0.5] of a symmetric V's apex through (-1, minus), (0, centre), (1, plus); 0 if flat."""
     drop = centre - np.minimum(minus, plus)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(drop > 0, (plus - minus) / (2.0 * drop), 0.0)
@@ -108,8 +110,8 @@ def _coarse_shifts(hull_frame, hull, body_frame, body, n) -> np.ndarray:
     lo_h, ext_h = _box(hull_frame, hull_c, n)
     lo_b, ext_b = _box(body_frame, body_c, n)
     shape = tuple(fft.next_fast_len(int(s)) for s in (ext_h + ext_b - 1).max(axis=0))
-    h = _dense(hull_frame, hull_c, lo_h, shape, n, np.float64)
-    m = _dense(body_frame, body_c, lo_b, shape, n, np.float64)
+    h = _counts(hull_frame, hull_c, lo_h, shape, n).astype(np.float64)
+    m = _counts(body_frame, body_c, lo_b, shape, n).astype(np.float64)
     axes = (1, 2, 3)
     corr = fft.irfftn(fft.rfftn(h, axes=axes) * np.conj(fft.rfftn(m, axes=axes)), s=shape, axes=axes)
     peak = np.stack(np.unravel_index(corr.reshape(n, -1).argmax(axis=1), shape), axis=1)
@@ -130,7 +132,8 @@ def _fine_shifts(hull_frame, hull, body_frame, body, shift) -> np.ndarray:
     lo, ext = _box(hull_frame, hull, n)
     lo -= 2  # a margin of two empty layers: a body voxel one step from the hull's box stays inside the grid
     shape = tuple(int(s) + 4 for s in ext.max(axis=0))
-    occupied = _dense(hull_frame, hull, lo, shape, n, bool).reshape(-1)
+    occupied = np.zeros(n * int(np.prod(shape)), dtype=bool)
+    occupied[_flat(hull_frame, hull - lo[hull_frame], shape)] = True
     size = np.asarray(shape)
     offsets = _STEPS @ [shape[1] * shape[2], shape[2], 1]  # the steps as offsets of the flat index
     scores = np.zeros((n, len(_STEPS)))
@@ -140,8 +143,7 @@ def _fine_shifts(hull_frame, hull, body_frame, body, shift) -> np.ndarray:
         frame = body_frame[keep]
         rel = body[keep] + (shift - lo)[frame]
         near = ((rel >= 1) & (rel <= size - 2)).all(axis=1)  # the others miss the hull at every step
-        frame, rel = frame[near], rel[near]
-        flat = ((frame * shape[0] + rel[:, 0]) * shape[1] + rel[:, 1]) * shape[2] + rel[:, 2]
+        frame, flat = frame[near], _flat(frame[near], rel[near], shape)
         for s, offset in enumerate(offsets):
             scores[active, s] = np.bincount(frame, occupied[flat + offset], minlength=n)[active]
         best = scores.argmax(axis=1)  # the first maximum: the current shift on a tie
