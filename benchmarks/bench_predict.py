@@ -4,9 +4,10 @@ Silhouettes of generated motions (one per motion type) are rendered into the def
 480 x 480) and kept in memory; the stages of ``voxpose.apply.predict`` then run on them, each timed over the whole
 sequence and reported per frame: carving (``Carver`` at l_res = h_sub / 60, after h_sub is measured on the
 first frame), surface and basis voxels (``surface_mask``, ``basis_indices``, 200 basis voxels), 3D shape
-contexts (``ShapeContextTable``, default descriptor), features (Eq. 5, MPPCA K = 200, q = 5) and regression
-(MVRVM, inverse PCA, heading decoding). The end-to-end line times the library path itself
-(``predict.carve`` + ``predict.predict_voxels``); reading PNG files is timed separately.
+contexts (``ShapeContextTable``, default descriptor), features (Eq. 5, MPPCA K = 200, q = 5), regression
+(MVRVM, inverse PCA, heading decoding) and the root fit (``apply.root_fit``: the estimated body placed on the
+hull). The end-to-end line times the library path itself (``predict.carve`` + ``predict.predict_voxels``);
+reading PNG files is timed separately.
 
 The model: ``--model FILE`` (a workflow's model file); by default a stand-in fitted here on the benchmark's
 own frames (MPPCA K = 200, q = 5 with ``--mppca-iter`` EM iterations, pose PCA and MVRVM as in the workflow),
@@ -22,7 +23,9 @@ features 4.14 / 4.11, regression 0.01; end to end 16.37 / 15.42 ms, 61.1 / 64.8 
 1.68 / 1.60 ms more (55.4 frames/s from files, worst run). The stand-in model: 14.58 ms, 68.6 frames/s. The same
 code on the previous session's VM measured 28.7 ms idle (34.8 frames/s): per-stage times there were about twice
 these, so the rate depends on the machine. The MPPCA features are bound by one (n x 201) @ (201 x K(q + 1))
-product per frame; 3DSC is the largest stage.
+product per frame; 3DSC is the largest stage. The root fit (added 2026-11-26, stand-in model, measured on a
+loaded VM, load average 11 on 2 cores, every stage slower than above): 2.61 ms per frame of 23.20 ms end to
+end (11 %); carve 6.45, surface and basis 2.30, 3DSC 8.02, features 4.75 ms in the same run.
 """
 
 import os
@@ -39,6 +42,7 @@ import numpy as np  # noqa: E402
 
 from voxpose.apply import predict  # noqa: E402
 from voxpose.apply.model_file import PoseModel, load_model  # noqa: E402
+from voxpose.apply.root_fit import fit_roots  # noqa: E402
 from voxpose.features.model import FeatureModel  # noqa: E402
 from voxpose.io.bvh import write_bvh  # noqa: E402
 from voxpose.motion.generate import generate_motion  # noqa: E402
@@ -98,7 +102,7 @@ def main() -> None:
         print(f"rig {rig.name}: {len(rig)} cameras {rig.image_size[1]}x{rig.image_size[0]}; model K = "
               f"{model.features.estimator.weights_.shape[0]}, M = {model.pca.n_components_}, "
               f"{len(model.mvrvm.relevance_)} relevance vectors; {len(motions)} x {args.frames} frames")  # fmt: skip
-        stages = dict.fromkeys(("carve", "surface+basis", "3DSC", "features", "regression"), 0.0)
+        stages = dict.fromkeys(("carve", "surface+basis", "3DSC", "features", "regression", "root fit"), 0.0)
         total_e2e, n_frames, io = 0.0, 0, 0.0
         for seq_ref in rendered:
             sil = seq_ref.silhouettes
@@ -112,8 +116,10 @@ def main() -> None:
             stages["3DSC"] += t
             (features, counts), t = cpu(predict.featurise, model, descriptors)
             stages["features"] += t
-            _, t = cpu(predict.regress, model, features, counts > 0)
+            angles, t = cpu(predict.regress, model, features, counts > 0)
             stages["regression"] += t
+            _, t = cpu(fit_roots, seq_ref, angles, counts > 0, model.skeleton)
+            stages["root fit"] += t
             seq, t_carve = cpu(predict.carve, model, iter(sil), rig)
             _, t_rest = cpu(predict.predict_voxels, model, seq)
             total_e2e += t_carve + t_rest
