@@ -4,19 +4,13 @@ Silhouettes of generated motions (one per motion type) are rendered into the def
 480 x 480) and kept in memory; the stages of ``voxpose.apply.predict`` then run on them, each timed over the whole
 sequence and reported per frame: carving (``Carver`` at l_res = h_sub / 60, after h_sub is measured on the
 first frame), surface and basis voxels (``surface_mask``, ``basis_indices``, 200 basis voxels), 3D shape
-<<<<<<< HEAD
-contexts (``ShapeContextTable``, default descriptor), features (Eq. 5, MPPCA K = 200, q = 5), regression
-(MVRVM, inverse PCA, heading decoding) and the root fit (``apply.root_fit``: the estimated body placed on the
-hull). The end-to-end line times the library path itself (``predict.carve`` + ``predict.predict_voxels``);
-reading PNG files is timed separately.
-=======
 contexts (``ShapeContextTable``, default descriptor), features (Eq. 5, MPPCA K = 200, q = 5), the novelty score
-(``FeatureModel.novelty``: 20 descriptors per frame scored under the MPPCA, as a workflow model does) and
-regression (MVRVM, inverse PCA, heading decoding). The end-to-end line times the library path itself
-(``predict.carve`` + ``predict.predict_voxels``); reading PNG files is timed separately. Each stage and the end
-to end path run ``--repeats`` times; the minimum is reported (the least disturbed run on a loaded machine),
-with each stage's share of the sum of stages and the end-to-end rate against the 100 frames/s target.
->>>>>>> fast
+(``FeatureModel.novelty``: 20 descriptors per frame scored under the MPPCA, as a workflow model does),
+regression (MVRVM, inverse PCA, heading decoding) and the root fit (``apply.root_fit``: the estimated body placed
+on the hull). The end-to-end line times the library path itself (``predict.carve`` + ``predict.predict_voxels``);
+reading PNG files is timed separately. Each stage and the end to end path run ``--repeats`` times; the minimum is
+reported (the least disturbed run on a loaded machine), with each stage's share of the sum of stages and the
+end-to-end rate against the 100 frames/s target.
 
 The model: ``--model FILE`` (a workflow's model file); by default a stand-in fitted here on the benchmark's
 own frames (MPPCA K = 200, q = 5 with ``--mppca-iter`` EM iterations and a novelty range, pose PCA and MVRVM as
@@ -27,23 +21,14 @@ Times are CPU times of this process (robust to a loaded machine). Run on one cor
     OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 taskset -c 0 .venv/bin/python benchmarks/bench_predict.py
 
 Measured (ms per frame; 2026-11-25, idle 2-core AMD EPYC VM, load average 0.1, twice with ``--model`` the default
-<<<<<<< HEAD
-run's Table 2 model, 522 relevance vectors): carve 4.03 / 3.89, surface and basis 1.65 / 1.53, 3DSC 6.16 / 6.40,
-features 4.14 / 4.11, regression 0.01; end to end 16.37 / 15.42 ms, 61.1 / 64.8 frames/s (target 50); PNG reading
-1.68 / 1.60 ms more (55.4 frames/s from files, worst run). The stand-in model: 14.58 ms, 68.6 frames/s. The same
-code on the previous session's VM measured 28.7 ms idle (34.8 frames/s): per-stage times there were about twice
-these, so the rate depends on the machine. The MPPCA features are bound by one (n x 201) @ (201 x K(q + 1))
-product per frame; 3DSC is the largest stage. The root fit (added 2026-11-26, stand-in model, measured on a
-loaded VM, load average 11 on 2 cores, every stage slower than above): 2.61 ms per frame of 23.20 ms end to
-end (11 %); carve 6.45, surface and basis 2.30, 3DSC 8.02, features 4.75 ms in the same run.
-=======
 run's Table 2 model, 522 relevance vectors, one repeat, before the novelty stage was split out): carve 4.03 / 3.89,
 surface and basis 1.65 / 1.53, 3DSC 6.16 / 6.40, features 4.14 / 4.11, regression 0.01; end to end 16.37 / 15.42
 ms, 61.1 / 64.8 frames/s; PNG reading 1.68 / 1.60 ms more (55.4 frames/s from files, worst run). The stand-in
 model: 14.58 ms, 68.6 frames/s. The same code on the previous session's VM measured 28.7 ms idle (34.8
 frames/s): per-stage times there were about twice these, so the rate depends on the machine. The MPPCA
-features are bound by one (n x 201) @ (201 x K(q + 1)) product per frame.
->>>>>>> fast
+features are bound by one (n x 201) @ (201 x K(q + 1)) product per frame. The root fit (added 2026-11-26,
+stand-in model, measured on a loaded VM, load average 11 on 2 cores, every stage slower than above): 2.61 ms
+per frame of 23.20 ms end to end (11 %).
 """
 
 import os
