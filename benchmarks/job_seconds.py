@@ -4,11 +4,12 @@ Usage: ``python benchmarks/job_seconds.py RUN_DIR [--since ISO_TIME]``
 
 Snakemake keeps, per output file, the rule, the job's hash and its start and end times in
 ``RUN_DIR/.snakemake/metadata`` (one JSON record per file; a job with several outputs writes several records with
-the same hash and times). This groups the records into jobs and prints, per rule: jobs, job-seconds (the sum of
-the jobs' wall times), share of the total, the longest job; then the run's wall span (first start to last end)
-and the mean number of jobs running at once. On a machine doing nothing else with ``--cores N`` the job-seconds
-are close to CPU-seconds: the table says which rules to make cheaper, and which are many small jobs paying start-up.
-``--since`` keeps jobs that started at or after that time (a partial rerun in a directory with an older run).
+the same hash and end time, their start times a few microseconds apart). This groups the records into jobs
+and prints, per rule: jobs, job-seconds (the sum of the jobs' wall times), share of the total, the longest job;
+then the run's wall span (first start to last end) and the mean number of jobs running at once. On a machine
+doing nothing else with ``--cores N`` the job-seconds are close to CPU-seconds: the table says which rules to
+make cheaper, and which are many small jobs paying start-up. ``--since`` keeps jobs that started at or after
+that time (a partial rerun in a directory with an older run).
 """
 
 import argparse
@@ -26,8 +27,9 @@ def jobs(run_dir: Path, since: float = 0.0) -> list[tuple[str, float, float]]:
         start, end = record.get("starttime"), record.get("endtime")
         if record.get("incomplete") or start is None or end is None or start < since:
             continue
-        seen[(record["rule"], record.get("job_hash"), start)] = end
-    return [(rule, start, end) for (rule, _, start), end in seen.items()]
+        key = (record["rule"], record.get("job_hash"), end)  # a job's outputs share its end, not its start
+        seen[key] = min(start, seen.get(key, start))
+    return [(rule, start, end) for (rule, _, end), start in seen.items()]
 
 
 def main() -> None:
