@@ -198,11 +198,26 @@ def offset_table(geometry: BinGeometry, soft: bool) -> OffsetTable:
     )
 
 
+def _column_min(ijk: np.ndarray) -> np.ndarray:
+    """``ijk.min(axis=0)`` of (N, 3) voxels, column by column (several times faster in numpy)."""
+    return np.array([ijk[:, a].min() for a in range(3)])
+
+
+def _column_max(ijk: np.ndarray) -> np.ndarray:
+    """``ijk.max(axis=0)`` of (N, 3) voxels, column by column."""
+    return np.array([ijk[:, a].max() for a in range(3)])
+
+
+def _codes(ijk: np.ndarray, low: np.ndarray, strides: np.ndarray) -> np.ndarray:
+    """``(ijk - low) @ strides`` (integers, exact), column by column."""
+    return (ijk[:, 0] - low[0]) * strides[0] + (ijk[:, 1] - low[1]) * strides[1] + (ijk[:, 2] - low[2]) * strides[2]
+
+
 def _lexicographic_order(ijk: np.ndarray) -> np.ndarray:
     """Indices putting voxels ``ijk`` (N, 3) in lexicographic order (i, then j, then k; equal voxels in any)."""
-    low = ijk.min(axis=0)
-    span = ijk.max(axis=0) - low + 1
-    return np.argsort(((ijk[:, 0] - low[0]) * span[1] + ijk[:, 1] - low[1]) * span[2] + ijk[:, 2] - low[2])
+    low = _column_min(ijk)
+    span = _column_max(ijk) - low + 1
+    return np.argsort(_codes(ijk, low, np.array([span[1] * span[2], span[2], 1])))
 
 
 def _as_voxels(name: str, values) -> np.ndarray:
@@ -277,11 +292,11 @@ class ShapeContextTable:
         t = self.table
         if not t.counting:  # so that each run meets its table rows in ascending order (module docstring)
             surface = surface[_lexicographic_order(surface)]
-        low = np.minimum(surface.min(axis=0), basis.min(axis=0))
-        high = np.maximum(surface.max(axis=0), basis.max(axis=0))
+        low = np.minimum(_column_min(surface), _column_min(basis))
+        high = np.maximum(_column_max(surface), _column_max(basis))
         codes = self._code_table(high - low)
-        surface_code = (surface - low) @ codes.strides + codes.shift
-        basis_code = (basis - low) @ codes.strides
+        surface_code = _codes(surface, low, codes.strides) + codes.shift
+        basis_code = _codes(basis, low, codes.strides)
         if not t.counting:  # whole blocks: padded with a code beyond every basis voxel's table ("outside")
             padding = np.full(-len(surface_code) % _BLOCK, 2 * codes.shift + basis_code.max())
             surface_code = np.concatenate([surface_code, padding])
