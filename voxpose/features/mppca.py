@@ -131,10 +131,15 @@ def _log_joint_chunks(X, proj, chunk_size):
         x1 = np.ones((rows.shape[0], rows.shape[1] + 1))
         np.subtract(rows, proj.offset, out=x1[:, :-1])
         prod = x1.astype(proj.stack.dtype, copy=False) @ proj.stack
-        sqdist = np.einsum("nd,nd->n", x1[:, :-1], x1[:, :-1])[:, None] - 2.0 * prod[:, :n_components]
+        sqdist = prod[:, :n_components] * 2.0  # in place from here: each (c, K) temporary costs memory traffic
+        np.subtract(np.einsum("nd,nd->n", x1[:, :-1], x1[:, :-1])[:, None], sqdist, out=sqdist)
         latent = prod[:, n_components:].reshape(len(x1), n_components, n_latent)
-        mahalanobis = (sqdist - np.einsum("nkq,nkq->nk", latent, latent)) / proj.noise_variance
-        yield x1, proj.log_norm - 0.5 * mahalanobis, latent, sqdist
+        log_joint = np.einsum("nkq,nkq->nk", latent, latent)
+        np.subtract(sqdist, log_joint, out=log_joint)
+        log_joint /= proj.noise_variance  # the Mahalanobis term
+        log_joint *= -0.5
+        log_joint += proj.log_norm
+        yield x1, log_joint, latent, sqdist
 
 
 def _exp(a):
