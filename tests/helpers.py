@@ -20,6 +20,7 @@ from voxpose.motion.bvh_kinematics import local_transforms
 from voxpose.motion.data import MotionData
 from voxpose.motion.rotations import axis_rotation, matrix_to_euler
 from voxpose.voxels.body import Ellipsoids
+from voxpose.voxels.sequence import VoxelSequence
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -376,6 +377,23 @@ def exact_hull(el: Ellipsoids, rig, l_res, bounds):
 def volume(el: Ellipsoids) -> float:
     """Total volume of the solids in cubic metres, overlaps counted twice: sum of 4/3 pi a b c."""
     return float(4.0 / 3.0 * np.pi * np.prod(np.broadcast_to(el.radii, el.centres.shape), axis=-1).sum())
+
+
+def without_frame(seq, f):
+    """The sequence with frame ``f``'s voxels removed (an empty hull)."""
+    a, b = seq.offsets[f], seq.offsets[f + 1]
+    ba, bb = seq.basis_offsets[f], seq.basis_offsets[f + 1]
+    offsets = seq.offsets.copy()
+    offsets[f + 1 :] -= b - a
+    basis_offsets = seq.basis_offsets.copy()
+    basis_offsets[f + 1 :] -= bb - ba
+    empty = seq.empty.copy()
+    empty[f] = True
+    return VoxelSequence(
+        l_res=seq.l_res, h_sub=seq.h_sub, h_sub_frame=seq.h_sub_frame, ijk=np.delete(seq.ijk, np.s_[a:b], axis=0),
+        offsets=offsets, surface=np.delete(seq.surface, np.s_[a:b]), basis=np.delete(seq.basis, np.s_[ba:bb]),
+        basis_offsets=basis_offsets, empty=empty, shifts=seq.shifts,
+    )  # fmt: skip
 
 
 SPHERE = Ellipsoids(("sphere",), np.array([[0.0, 1.0, 0.0]]), np.eye(3)[None], np.full((1, 3), 0.3))

@@ -8,8 +8,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from tests.helpers import without_frame
 from voxpose.apply.model_file import load_model
 from voxpose.apply.outputs import read_record
+from voxpose.apply.root_fit import fit_roots
 from voxpose.cli.main import main
 from voxpose.descriptors.file import read_descriptors
 from voxpose.evaluation import metrics
@@ -119,6 +121,11 @@ def test_predict_from_voxels_carries_truth_and_renders(trained, tmp_path):
     np.testing.assert_array_equal(prediction.true_angles, workflow["true"])
     assert prediction.fps == 30.0 and meta["source"] == {"voxels": str(d / f"vox_{TEST}.h5")}
     np.testing.assert_array_equal(skeleton.offsets, load_model(d / "model.h5").skeleton.offsets)
+    # the root is the estimated body's fit to the hull (tests/apply/test_root_fit.py), in the record and the BVH
+    fitted = fit_roots(prediction.voxels, prediction.angles, prediction.valid, skeleton)
+    np.testing.assert_array_equal(prediction.root, fitted)
+    np.testing.assert_allclose(angles_from_bvh(read_bvh(tmp_path / "v.bvh"))[1], fitted - prediction.voxels.shifts,
+                               atol=1e-8)  # fmt: skip
     run("render", tmp_path / "v.h5", "--every", 6, "-o", tmp_path / "v.gif")
     from PIL import Image
 
@@ -139,31 +146,12 @@ def test_features_and_predict_say_how_far_the_input_lies_from_training(trained, 
     np.testing.assert_allclose([found["median"], found["out_of_range"]], [expected["median"], expected["out_of_range"]])
 
 
-def _without_frame(seq, f):
-    """The sequence with frame ``f``'s voxels removed (an empty hull)."""
-    from voxpose.voxels.sequence import VoxelSequence
-
-    a, b = seq.offsets[f], seq.offsets[f + 1]
-    ba, bb = seq.basis_offsets[f], seq.basis_offsets[f + 1]
-    offsets = seq.offsets.copy()
-    offsets[f + 1 :] -= b - a
-    basis_offsets = seq.basis_offsets.copy()
-    basis_offsets[f + 1 :] -= bb - ba
-    empty = seq.empty.copy()
-    empty[f] = True
-    return VoxelSequence(
-        l_res=seq.l_res, h_sub=seq.h_sub, h_sub_frame=seq.h_sub_frame, ijk=np.delete(seq.ijk, np.s_[a:b], axis=0),
-        offsets=offsets, surface=np.delete(seq.surface, np.s_[a:b]), basis=np.delete(seq.basis, np.s_[ba:bb]),
-        basis_offsets=basis_offsets, empty=empty, shifts=seq.shifts,
-    )  # fmt: skip
-
-
 def test_empty_hull_frames_are_gaps_not_estimates(trained, tmp_path):
     from voxpose.voxels.sequence import read_voxels, write_voxels
 
     d = trained
     seq, meta, angles = read_voxels(d / f"vox_{TEST}.h5")
-    write_voxels(tmp_path / "gappy.h5", _without_frame(_without_frame(seq, 0), 5), meta, angles=angles)
+    write_voxels(tmp_path / "gappy.h5", without_frame(without_frame(seq, 0), 5), meta, angles=angles)
     run("predict", d / "model.h5", "--voxels", tmp_path / "gappy.h5", "-o", tmp_path / "g.bvh")
     full = read_per_motion(d / "predictions.h5", "predictions")[0][TEST]["pred_mvrvm"]
     table = pd.read_csv(tmp_path / "g.csv")

@@ -242,3 +242,25 @@ def test_rounded_parameters_keep_boundary_decisions(h_sub_voxels, r_max, soft):
     np.testing.assert_allclose(rounded, exact, rtol=1e-9, atol=1e-9)
     on_r_max = basis + [(20, 0, 0), (12, 16, 0), (0, -12, 16)]
     assert not grid(on_r_max, basis, h_sub_voxels=h_sub_voxels, r_max=r_max, soft=soft).any()
+
+
+def test_soft_votes_do_not_depend_on_surface_order_or_block_size(monkeypatch):
+    """Each run of a basis voxel's pairs is summed in ascending table-row order whatever the order of the
+    surface voxels and the sort blocks (lut module docstring), so the descriptors agree bit for bit."""
+    surface, basis = blob(21, n_surface=1500, n_basis=60)
+    surface = np.vstack([surface, surface[:7]])  # repeated voxels too
+    table = ShapeContextTable(60, soft=True)
+    base = table.describe(surface, basis)
+    np.testing.assert_allclose(base, reference(surface, basis, soft=True), rtol=0, atol=1e-9)
+    shuffled = surface[np.random.default_rng(0).permutation(len(surface))]
+    np.testing.assert_array_equal(table.describe(shuffled, basis), base)
+    monkeypatch.setattr(lut, "_BLOCK", 8)  # many blocks, the last one padded
+    np.testing.assert_array_equal(table.describe(shuffled, basis), base)
+
+
+def test_a_groups_table_rows_are_in_lexicographic_order_of_their_offsets():
+    table = ShapeContextTable(60, soft=True).table
+    for g in np.unique(table.group)[::7]:
+        offsets = table.offsets[table.group == g]
+        order = np.lexsort(offsets.T[::-1])
+        np.testing.assert_array_equal(order, np.arange(len(offsets)))

@@ -77,3 +77,29 @@ def test_every_label_is_at_least_10_px_at_the_report_width(tables, tmp_path, whi
         scale = min(1.0, REPORT_WIDTH / image.size[0])
     sizes = [t.get_fontsize() for t in fig.findobj(Text) if t.get_text().strip() and t.get_visible()]
     assert sizes and min(sizes) * 120 / 72 * scale >= 10.0
+
+
+def test_generalisation_page_states_each_group_against_the_mean_pose(tmp_path):
+    """Planted errors: the caption's per-group numbers and ratios are the table's, the page names methods in words
+    and shows each interval, the measured MPPCA rows shaded as ours."""
+    import pandas as pd
+
+    from voxpose.evaluation.generalisation import generalisation_figure
+
+    rows = []
+    for group, (ours, mean) in {"cmu_05": (6.0, 12.0), "bandai_1": (9.0, 10.0)}.items():
+        for method, error in (("mvrvm", ours), ("kmeans", ours + 1), ("nearest_neighbour", ours + 2),
+                              ("kernel_ridge", ours + 0.5), ("mean_pose", mean)):  # fmt: skip
+            rows.append({"held_out": group, "method": method, "frames": 30, "train_frames": 90, "full_body": error,
+                         "full_body_low": error - 0.5, "full_body_high": error + 0.5, "full_body_varying": error + 0.1,
+                         "varying_angles": 40, "heading": 3 * error, "left_shoulder": error, "right_hip": error,
+                         "mpjpe_mm": 10 * error})  # fmt: skip
+    table = pd.DataFrame(rows)
+    text = figure_pages.generalisation_caption(table)
+    assert "cmu_05 6.0 against 12.0 (0.50 of it; heading 18.0)" in text
+    assert "bandai_1 9.0 against 10.0 (0.90 of it; heading 27.0)" in text
+    generalisation_figure(table, tmp_path / "g.png")
+    figure_pages.generalisation_page(table, tmp_path / "g.png", tmp_path / "g.html")
+    page = (tmp_path / "g.html").read_text()
+    assert page.count('<tr class="ours">') == 2 and "K-means + MVRVM" in page and "mean training pose" in page
+    assert "6.0 <small>[5.5, 6.5]</small>" in page and "6.1 (40)" in page and "data:image/png;base64," in page

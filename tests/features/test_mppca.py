@@ -339,3 +339,30 @@ def test_constructor_is_keyword_only_after_n_components():
     assert MPPCA(3).n_components == 3
     with pytest.raises(TypeError):
         MPPCA(3, 2)
+
+
+@pytest.mark.parametrize("live_fraction", [0.0, 0.01, 0.3, 0.9])
+def test_exp_skipping_underflow_is_numpys_exp_bit_for_bit(live_fraction):
+    """Sparse (most entries underflow) and dense regimes, the subnormal range, the threshold, -inf and NaN."""
+    rng = np.random.default_rng(3)
+    a = np.where(
+        rng.random((300, 40)) < live_fraction, rng.uniform(-760.0, 0.0, (300, 40)), -rng.uniform(700, 1e6, (300, 40))
+    )
+    a.flat[:6] = [mppca_module._EXP_ZERO, np.nextafter(mppca_module._EXP_ZERO, 0), -745.13, -720.0, -np.inf, np.nan]
+    expected = np.exp(a)
+    assert expected.flat[0] == 0.0 and expected.flat[2] > 0.0  # the threshold underflows, the subnormal range not
+    np.testing.assert_array_equal(mppca_module._exp(a), expected)
+
+
+def test_projection_is_cached_per_parameter_set():
+    X = overlapping_clusters(4)
+    model = MPPCA(3, n_latent=2, max_iter=3, random_state=0).fit(X)
+    first = model.predict_proba(X)
+    assert model._projection() is model._projection()  # computed once
+    np.testing.assert_array_equal(model.predict_proba(X), first)
+    with pytest.raises(ValueError, match="read-only"):  # parameters change only by being replaced ...
+        model.means_[0, 0] += 1.0
+    model.means_ = model.means_ + 1.0  # ... which the cache notices
+    fresh = MPPCA.from_arrays(*model.to_arrays())
+    np.testing.assert_array_equal(model.predict_proba(X), fresh.predict_proba(X))
+    assert not np.array_equal(model.predict_proba(X), first)

@@ -57,6 +57,23 @@ def test_grid_sample_one_per_cell_nearest_the_centroid():
     assert grid_sample(ijk, 4.0, offset=(2.0, 2.0, 2.0)).tolist() == [0, 2, 4, 5]
 
 
+@pytest.mark.parametrize("cell, offset", [(3.0, (0.0, 0.0, 0.0)), (4.7, (1.3, 0.2, 3.9)), (1.0, (0.5, 0.5, 0.5))])
+def test_grid_sample_matches_brute_force(cell, offset):
+    rng = np.random.default_rng(int(cell * 10))
+    ijk = np.unique(rng.integers(-9, 25, size=(700, 3)), axis=0)[rng.permutation(600)]
+    members = {}
+    for n, voxel in enumerate(ijk.tolist()):
+        members.setdefault(tuple(int(np.floor((x + o) / cell)) for x, o in zip(voxel, offset, strict=True)), []).append(
+            n
+        )
+    expected = []
+    for rows in members.values():
+        centre = ijk[rows].mean(axis=0)
+        dist = [float(((ijk[n] - centre) ** 2).sum()) for n in rows]
+        expected.append(rows[int(np.argmin(dist))])  # argmin: the first (lowest) index among ties
+    assert grid_sample(ijk, cell, offset).tolist() == sorted(expected)
+
+
 def test_basis_count_coverage_and_determinism():
     surface = sphere(18.0)
     surface = surface[surface_mask(surface)]

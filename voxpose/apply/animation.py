@@ -8,10 +8,10 @@ horizontal). A camera projection is a true picture of the right-handed world: no
 subject's left hand appears where a photograph would show it (``tests/apply/test_render.py``).
 
 Skeleton placement. The regressor estimates joint angles only (Section 2). The skeleton of the estimated (red)
-and, when known, true (black) pose is drawn on the model's output skeleton with its root above the hull's
-centroid horizontally and its lowest joint at the bottom of the hull (the floor the subject stands on), so a
-long dress or raised arms, which move the centroid, do not move the skeleton up or down. Surface voxels are
-grey dots; gap frames (empty hull) show the word "gap".
+and, when known, true (black) pose is drawn on the model's output skeleton with its root where the body
+model in that pose best overlaps the frame's hull (``voxpose.apply.root_fit``, as ``voxpose predict`` places the
+BVH root), so a long dress or raised arms, which move the hull's centroid, do not move the skeleton. Surface
+voxels are grey dots; gap frames (empty hull) show the word "gap".
 
 Output: one PNG per frame (a path holding ``{frame}``, the input's frame number), an animated GIF (``.gif``,
 Pillow) or an MP4 (``.mp4``, the optional extra ``voxpose[video]``), each written atomically.
@@ -23,26 +23,25 @@ from matplotlib.figure import Figure
 from PIL import Image
 
 from voxpose.apply.predict import Prediction
+from voxpose.apply.root_fit import fit_roots
 from voxpose.errors import VoxposeError
 from voxpose.evaluation.gallery import BONES
 from voxpose.io.atomic import atomic_path
+from voxpose.motion import canon
+from voxpose.motion.output_skeleton import OutputSkeleton
 from voxpose.motion.pose_kinematics import forward_kinematics
 from voxpose.voxels.cameras import Camera, look_at
 
 VIEW_PX = 360
 
 
-def placed_skeletons(angles, valid, offsets, seq) -> np.ndarray:
+def placed_skeletons(angles, valid, skeleton: OutputSkeleton, seq) -> np.ndarray:
     """(F, 14, 3) joints of ``angles`` placed on each frame's hull (module docstring); NaN where not ``valid``."""
-    out = np.full((len(angles), len(offsets), 3), np.nan)
+    out = np.full((len(angles), canon.N_JOINTS, 3), np.nan)
     if not valid.any():
         return out
-    joints = forward_kinematics(angles[valid], offsets)[0]
-    for i, f in enumerate(np.flatnonzero(valid)):
-        ijk = seq.frame(f)[0]
-        centre = (ijk + 0.5).mean(axis=0) * seq.l_res
-        floor = ijk[:, 1].min() * seq.l_res  # the bottom face of the lowest occupied layer
-        out[f] = joints[i] + [centre[0], floor - joints[i][:, 1].min(), centre[2]]
+    roots = fit_roots(seq, angles, valid, skeleton, name="render")
+    out[valid] = forward_kinematics(angles[valid], skeleton.offsets)[0] + roots[valid, None]
     return out
 
 
@@ -66,7 +65,7 @@ def _projected(camera: Camera, points):
     return np.where((depth > 0)[..., None], uv, np.nan)
 
 
-def draw_frames(prediction: Prediction, offsets, camera: Camera, *, every: int = 1, images=None):
+def draw_frames(prediction: Prediction, skeleton: OutputSkeleton, camera: Camera, *, every: int = 1, images=None):
     """Yield (frame number, (H, W, 3) uint8 picture) of every ``every``-th frame (module docstring).
 
     ``images``: a function of the frame number returning the camera's (H, W, 3) image, or None (white).
@@ -74,11 +73,11 @@ def draw_frames(prediction: Prediction, offsets, camera: Camera, *, every: int =
     if isinstance(every, bool) or not isinstance(every, int) or every < 1:
         raise VoxposeError(f"render: --every must be a positive integer, got {every!r}")
     seq, valid = prediction.voxels, prediction.valid
-    est = placed_skeletons(prediction.angles, valid, offsets, seq)
+    est = placed_skeletons(prediction.angles, valid, skeleton, seq)
     truth = None
     if prediction.true_angles is not None:
         known = valid & np.isfinite(prediction.true_angles).all(axis=1)
-        truth = placed_skeletons(prediction.true_angles, known, offsets, seq)
+        truth = placed_skeletons(prediction.true_angles, known, skeleton, seq)
     dpi = 100
     fig = Figure(figsize=(camera.width / dpi, camera.height / dpi), dpi=dpi)
     canvas = FigureCanvasAgg(fig)  # draws into a pixel buffer; no pyplot, no backend switch

@@ -4,7 +4,7 @@
   frame per input frame, ``Frame Time`` 1 / fps; gap frames as documented in ``voxpose.apply.predict``.
 * ``out.csv``: columns ``frame`` (input frame number), ``valid`` (1: estimated, 0: gap) and the 42 angles
   ``motion.canon.ANGLE_NAMES`` in degrees; gap rows hold ``NaN``.
-* ``out.h5`` (layout ``prediction``): the angles, valid flags, hull centroids, frame numbers, true angles
+* ``out.h5`` (layout ``prediction``): the angles, valid flags, fitted root positions, frame numbers, true angles
   when known, the output skeleton and the carved voxels: everything ``voxpose render`` draws.
 
 The three files are written to temporary names and renamed into place only once all are complete.

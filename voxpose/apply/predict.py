@@ -14,8 +14,10 @@ at the root position of the nearest earlier frame with an estimate (the first la
 an obvious non-pose, never an interpolated or repeated estimate.
 
 Root position. The regressor estimates joint angles only (Section 2). So that the skeleton moves with the
-subject, the BVH root is put at the centroid of each frame's visual hull (world metres, minus the
-re-centring ``shifts`` of synthetic voxel files): a display position, not an estimate of the pelvis.
+subject, the BVH root is put where the body model posed by the estimated angles (after smoothing) on the
+model's output skeleton best overlaps each frame's visual hull (``voxpose.apply.root_fit``; not the hull's
+centroid, which a dress or raised arms move), in world metres: minus the re-centring ``shifts`` of synthetic
+voxel files.
 
 Temporal smoothing (``smooth`` > 0; off by default, the paper estimates every frame independently): each
 angle, unwrapped over time, is convolved with a Gaussian of standard deviation ``smooth`` frames
@@ -30,6 +32,7 @@ import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
 from voxpose.apply.model_file import PoseModel
+from voxpose.apply.root_fit import fit_roots
 from voxpose.descriptors.sequence import describe_sequence
 from voxpose.descriptors.settings import DescriptorSettings
 from voxpose.errors import VoxposeError
@@ -51,7 +54,7 @@ class Prediction:
 
     angles : (F, 42) y' in degrees, NaN rows at gaps.
     valid : (F,) frames with an estimate (non-empty hull).
-    root : (F, 3) hull centroid in the voxels' coordinates (metres), NaN at gaps.
+    root : (F, 3) fitted root position in the voxels' coordinates (metres, ``apply.root_fit``), NaN at gaps.
     voxels : the carved sequence the estimates come from.
     frames : (F,) frame numbers (of the silhouette files; 0.. for voxel files).
     fps : frame rate written to the BVH.
@@ -120,15 +123,6 @@ def regress(model: PoseModel, features: np.ndarray, valid: np.ndarray) -> np.nda
     return angles
 
 
-def hull_centroids(seq: VoxelSequence) -> np.ndarray:
-    """(F, 3) mean voxel centre of each frame (metres), NaN for empty frames."""
-    counts = np.diff(seq.offsets)
-    frame = np.repeat(np.arange(seq.n_frames), counts)
-    centre = (seq.ijk + 0.5) * seq.l_res
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.stack([np.bincount(frame, centre[:, a], seq.n_frames) for a in range(3)], axis=1) / counts[:, None]
-
-
 def smooth_angles(angles: np.ndarray, valid: np.ndarray, sigma: float) -> np.ndarray:
     """Gaussian smoothing over time (sigma in frames) within each run of valid frames; gaps stay NaN."""
     if not sigma > 0:
@@ -161,7 +155,8 @@ def predict_voxels(model: PoseModel, seq: VoxelSequence, *, frames=None, fps=Non
     frames = np.arange(seq.n_frames) if frames is None else np.asarray(frames)
     if true_angles is not None and np.shape(true_angles) != angles.shape:
         raise VoxposeError(f"predict: true angles have shape {np.shape(true_angles)}, expected {angles.shape}")
-    return Prediction(angles=angles, valid=valid, root=hull_centroids(seq), voxels=seq, frames=frames,
+    root = fit_roots(seq, angles, valid, model.skeleton, name=name)
+    return Prediction(angles=angles, valid=valid, root=root, voxels=seq, frames=frames,
                       fps=float(fps or model.fps), true_angles=true_angles, smooth=float(smooth),
                       novelty=novelty)  # fmt: skip
 

@@ -24,7 +24,7 @@ def add_arguments(p):
 
 def run(args):
     from voxpose.errors import VoxposeError
-    from voxpose.evaluation import html
+    from voxpose.evaluation.figure_pages import generalisation_page
     from voxpose.evaluation.generalisation import generalisation_figure, generalisation_table, with_intervals
     from voxpose.evaluation.tables import read_summary, write_table
 
@@ -40,8 +40,5 @@ def run(args):
                 "joint position error (mm) on the held-out group")  # fmt: skip
     generalisation_figure(df, args.png)
     if args.html:
-        html.write_page(args.html, "Generalisation: each group held out in turn (degrees, Eq. 6; mm)",
-                        html.table(df) + html.caption("full_body_low / _high: 95 % bootstrap interval (test motions,"
-                                                      " then frames); full_body_varying: over the varying_angles"
-                                                      " angles that move in the held-out group's frames."))
+        generalisation_page(df, args.png, args.html)
     write_table_meta(args)

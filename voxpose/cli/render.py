@@ -72,7 +72,7 @@ def run(args):
         centre = (occupied + 0.5).mean(axis=0) * seq.l_res
         extent = max(float(np.ptp(seq.frame(f)[0], axis=0).max() + 1) for f in np.flatnonzero(~seq.empty)) * seq.l_res
         camera = orbit_camera(centre, extent, args.azimuth, args.elevation)
-    frames = draw_frames(prediction, skeleton.offsets, camera, every=args.every, images=images)
+    frames = draw_frames(prediction, skeleton, camera, every=args.every, images=images)
     n = write_pictures(frames, args.output, (args.fps or prediction.fps) / args.every)
     log.info("render: %d frames -> %s", n, args.output)
 

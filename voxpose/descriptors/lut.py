@@ -17,29 +17,40 @@ Step 2 groups table rows by the set of bins they vote for, so that each group is
   pole for the vertical axis), so one ``np.bincount`` counts pairs per (basis, distinct row) and a
   small sparse product turns the counts into descriptors;
 - segments (soft votes): rows are all distinct (about 5 partial votes each), but only a few hundred
-  distinct sets of bins occur. The lookup yields rows sorted by group, so sorting each basis voxel's
-  row indices puts its pairs in runs of one group; one CSR x dense product sums the runs' per-offset
-  weights (``width`` columns), and one ``np.bincount`` sends each run's sums to its group's bins.
+  distinct sets of bins occur. A run is one basis voxel's pairs of one group: its summed per-offset weights
+  (``width`` columns) go to the group's bins. Each basis voxel's pair rows are sorted in blocks of
+  ``_BLOCK`` surface voxels, so that a block's pairs come by group, and the runs are numbered by (basis
+  voxel, group); one sparse (COO) x dense product sums every run's weights, and one ``np.bincount`` sends
+  the sums to the bins. Surface voxels are taken in lexicographic order and a group's table rows are in
+  lexicographic order of their offsets, so a run's pairs arrive in ascending row order block after block,
+  and the COO product (which adds its entries in storage order) sums each run exactly as if it had been
+  sorted whole: the descriptors do not depend on the order of the surface voxels, bit for bit.
 
 Measured (``benchmarks/bench_shape_context.py`` figures: ~1770 surface and 200 basis voxels, ~190,000
 pairs in the support per frame; process CPU time per frame, medians, on the 2-core VM while other jobs
 kept both cores busy, load average 3 - 6):
 
-- soft votes, segments: 9.4 - 10.6 ms per frame (the previous version of this module: 15.5 ms in the
-  same runs), of which pair codes and lookup 1.3, row sort 0.8, dropping pairs outside the support 0.7,
-  runs 1.1, CSR x dense product 2.3 to 2.6, run keys and bincount 1.7; hard votes, counting: 3.8 - 4.5
-  ms (previously 8 - 9 ms). The reference takes 23 - 34 times longer on the same frames;
+- soft votes, segments with whole-row sorts and a CSR product (the previous version): 9.4 - 10.6 ms per
+  frame, of which pair codes and lookup 1.3, row sort 0.8, dropping pairs outside the support 0.7, runs
+  1.1, CSR x dense product 2.3 to 2.6, run keys and bincount 1.7; hard votes, counting: 3.8 - 4.5 ms
+  (previously 8 - 9 ms). The reference takes 23 - 34 times longer on the same frames;
+- numpy sorts rows of at most 512 16-bit values several times faster per value than longer ones (0.25
+  against 1.4 - 1.9 ms for the ~450,000 pairs of a predict benchmark frame, load average 12): sorting in
+  blocks of 512 with the COO product took 6.2 ms per frame against 7.1 ms for whole rows and the CSR
+  product, in the same process; blocks of 256: 6.3 ms; no sort at all (runs numbered straight from the
+  lexicographic order): 6.4 ms;
 - one code table per frame extent (the previous design) was rebuilt for most frames of moving figures,
   ~2 ms per frame; the grown table is built once or twice per motion;
-- scipy converts CSR index arrays that are not int32 (uint16 rows, int64 run starts) slowly: 0.5 - 3 ms
-  per product, against 0.03 ms for int32 arrays, so they are passed as int32;
+- scipy converts sparse index arrays that are not int32 (uint16 rows, int64 run starts) slowly: 0.5 - 3
+  ms per product, against 0.03 ms for int32 arrays, so they are passed as int32;
 - alternatives for soft votes: summing the runs by ``np.add.reduceat`` over gathered table rows, 11 -
   13 ms (against 2.2 ms for the CSR product); keeping the pairs outside the support as a zero row
   instead of dropping them, 12 ms per frame; the sparse product ``A @ T`` of the (basis x offset) pair
   indicator with the table (scipy CSR x CSR, no sort needed), 9 ms for the product alone;
   ``np.bincount`` over the (basis, bin) keys of all partial votes, padded to 8 per pair: 23 ms; only
   pairing each basis voxel with the surface voxels within the table radius along the lead axis (a
-  window of ~88% of them on human figures): no gain.
+  window of ~88% of them on human figures): no gain; grouping the pairs by scipy's counting-sort
+  conversions (CSR to CSC and back) instead of sorting: no gain.
 
 ``ShapeContextTable.describe_frames(frames, threads=2)`` describes frames on a thread pool. The numpy
 and scipy calls above release the GIL (a Python thread kept running during each of them), so two
@@ -74,6 +85,9 @@ _MAX_CODE_TABLE = 1 << 26
 """Largest per-frame code table (entries) allowed; a voxel set spanning more is refused."""
 
 _WIDE_QUANTILE = 0.99
+
+_BLOCK = 512
+"""Soft votes: each basis voxel's pairs are sorted in blocks of this many surface voxels (module docstring)."""
 """Segment width: this quantile of the votes per row; longer rows (the vertical axis) get a bin each."""
 
 
@@ -162,7 +176,7 @@ def offset_table(geometry: BinGeometry, soft: bool) -> OffsetTable:
         extra = sp.csr_array(votes[wide].T)
         first, group = _distinct_rows(slot_bins)
         group_bins, group_votes = slot_bins[first], None
-    order = np.argsort(group, kind="stable")
+    order = np.argsort(group, kind="stable")  # within a group, offsets stay in lexicographic order (cube)
     group = group[order].astype(np.int32)  # int32: half the traffic of the per-pair group lookup
     log.info(
         "3DSC lookup table: R_max %.4g voxels, %d offsets, %d votes, %d groups (%s)",
@@ -182,6 +196,28 @@ def offset_table(geometry: BinGeometry, soft: bool) -> OffsetTable:
         group_bins=group_bins,
         extra=extra,
     )
+
+
+def _column_min(ijk: np.ndarray) -> np.ndarray:
+    """``ijk.min(axis=0)`` of (N, 3) voxels, column by column (several times faster in numpy)."""
+    return np.array([ijk[:, a].min() for a in range(3)])
+
+
+def _column_max(ijk: np.ndarray) -> np.ndarray:
+    """``ijk.max(axis=0)`` of (N, 3) voxels, column by column."""
+    return np.array([ijk[:, a].max() for a in range(3)])
+
+
+def _codes(ijk: np.ndarray, low: np.ndarray, strides: np.ndarray) -> np.ndarray:
+    """``(ijk - low) @ strides`` (integers, exact), column by column."""
+    return (ijk[:, 0] - low[0]) * strides[0] + (ijk[:, 1] - low[1]) * strides[1] + (ijk[:, 2] - low[2]) * strides[2]
+
+
+def _lexicographic_order(ijk: np.ndarray) -> np.ndarray:
+    """Indices putting voxels ``ijk`` (N, 3) in lexicographic order (i, then j, then k; equal voxels in any)."""
+    low = _column_min(ijk)
+    span = _column_max(ijk) - low + 1
+    return np.argsort(_codes(ijk, low, np.array([span[1] * span[2], span[2], 1])))
 
 
 def _as_voxels(name: str, values) -> np.ndarray:
@@ -253,17 +289,22 @@ class ShapeContextTable:
         """
         surface = _as_voxels("surface_ijk", surface_ijk)
         basis = _as_voxels("basis_ijk", basis_ijk)
-        low = np.minimum(surface.min(axis=0), basis.min(axis=0))
-        high = np.maximum(surface.max(axis=0), basis.max(axis=0))
+        t = self.table
+        if not t.counting:  # so that each run meets its table rows in ascending order (module docstring)
+            surface = surface[_lexicographic_order(surface)]
+        low = np.minimum(_column_min(surface), _column_min(basis))
+        high = np.maximum(_column_max(surface), _column_max(basis))
         codes = self._code_table(high - low)
-        surface_code = (surface - low) @ codes.strides + codes.shift
-        basis_code = (basis - low) @ codes.strides
+        surface_code = _codes(surface, low, codes.strides) + codes.shift
+        basis_code = _codes(basis, low, codes.strides)
+        if not t.counting:  # whole blocks: padded with a code beyond every basis voxel's table ("outside")
+            padding = np.full(-len(surface_code) % _BLOCK, 2 * codes.shift + basis_code.max())
+            surface_code = np.concatenate([surface_code, padding])
         if max(surface_code.max(), basis_code.max()) < 2**31:  # int32 halves the memory traffic
             surface_code, basis_code = surface_code.astype(np.int32), basis_code.astype(np.int32)
-        t = self.table
         n_out = self.n_bins if t.counting else self.n_bins + t.extra.shape[1]
         out = np.empty((len(basis), n_out))
-        step = max(1, _CHUNK_PAIRS // max(len(surface), n_out + 1))  # also bounds the per-chunk histograms
+        step = max(1, _CHUNK_PAIRS // max(len(surface_code), n_out + 1))  # also bounds the per-chunk histograms
         for start in range(0, len(basis), step):
             pair_codes = surface_code[None, :] - basis_code[start : start + step, None]
             entries = codes.lookup.take(pair_codes, mode="clip")  # beyond the table's ends: "outside"
@@ -281,31 +322,28 @@ class ShapeContextTable:
         return (t.group_votes @ counts[:, :-1].T.astype(np.float64)).T
 
     def _segments(self, rows: np.ndarray) -> np.ndarray:
-        """Extended-bin descriptors of ``m`` basis voxels from the ``(m, N)`` table rows of their pairs."""
+        """Extended-bin descriptors of ``m`` basis voxels from the ``(m, N)`` table rows of their pairs, with
+        ``N`` a multiple of ``_BLOCK`` and the surface voxels in lexicographic order."""
         t = self.table
-        m, n_rows = len(rows), len(t.group)
+        m, n_rows, n_groups = len(rows), len(t.group), t.n_groups
         n_ext = self.n_bins + t.extra.shape[1]
-        rows.sort(axis=1)  # rows are sorted by group, so each basis voxel's pairs form runs of a group
+        rows.reshape(-1, _BLOCK).sort(axis=1)  # each block's pairs by group (rows are sorted by group)
         inside = rows < n_rows  # "outside" sorts last
-        ends = np.cumsum(np.count_nonzero(inside, axis=1))  # end of each basis voxel's pairs
+        counts = np.count_nonzero(inside, axis=1)
         rows = rows[inside]
         if len(rows) == 0:
             return np.zeros((m, n_ext))
-        rows = rows.astype(np.int32)  # scipy takes int32 indices as they are; others cost a slow conversion
-        group = t.group.take(rows)
-        run_start = np.empty(len(rows), dtype=bool)
-        run_start[0] = True
-        np.not_equal(group[1:], group[:-1], out=run_start[1:])
-        run_start[ends[ends < len(rows)]] = True  # a basis voxel's first pair starts a run
-        starts = np.flatnonzero(run_start).astype(np.int32)
-        indptr = np.append(starts, np.int32(len(rows)))
-        runs = sp.csr_array((np.ones(len(rows)), rows, indptr), shape=(len(starts), n_rows))
-        sums = runs @ t.weights  # (runs, width): each run's summed slot weights
-        width = sums.shape[1]
-        runs_per_basis = np.diff(np.searchsorted(starts, ends), prepend=0)
-        keys = t.group_bins.take(group.take(starts), axis=0).ravel()
-        keys += np.repeat(np.arange(0, m * (n_ext + 1), n_ext + 1), runs_per_basis * width)
-        totals = np.bincount(keys, sums.ravel(), minlength=m * (n_ext + 1))
+        run = t.group.take(rows)  # each pair's run, (basis voxel, group), numbered in that order
+        run += np.repeat(np.arange(0, m * n_groups, n_groups, dtype=np.int32), counts)
+        present = np.bincount(run, minlength=m * n_groups) > 0
+        first = np.flatnonzero(present)
+        run = (np.cumsum(present, dtype=np.int32) - 1).take(run)
+        # int32 indices: scipy takes them as they are; others cost a slow conversion
+        pairs = sp.coo_array((np.ones(len(rows)), (run, rows.astype(np.int32))), shape=(len(first), n_rows))
+        sums = pairs @ t.weights  # (runs, width): each run's summed slot weights, in storage order
+        keys = t.group_bins.take(first % n_groups, axis=0)
+        keys += (first // n_groups * (n_ext + 1))[:, None]
+        totals = np.bincount(keys.ravel(), sums.ravel(), minlength=m * (n_ext + 1))
         return totals.reshape(m, n_ext + 1)[:, :n_ext]
 
     def describe_frames(self, frames, threads: int = 1) -> list[np.ndarray]:

@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from voxpose.evaluation.figures import FONT
+from voxpose.evaluation.figures import FONT, finish_panels, label_panel
 from voxpose.evaluation.tables import read_summary
 
 LEVEL_TITLES = {
@@ -98,15 +98,6 @@ def robustness_figure(table: pd.DataFrame):
         clean = rows[rows["level"] == 0]["mean-pose baseline (deg)"]
         if len(clean):
             ax.axhline(clean.iloc[0], color="0.6", ls="--", lw=0.8, label="mean training pose")
-        ax.set_title(KIND_TITLES[kind], fontsize=FONT + 1)
-        ax.set_xlabel(LEVEL_TITLES[kind], fontsize=FONT)
-        ax.set_ylabel("full-body RMS error (deg, Eq. 6)", fontsize=FONT)
-        ax.tick_params(labelsize=FONT - 1)
-        ax.grid(alpha=0.3)
-    for ax in axes.flat[len(kinds):]:
-        ax.set_axis_off()
-    handles, names = axes.flat[0].get_legend_handles_labels()
-    fig.legend(handles, names, loc="lower center", ncol=3, fontsize=FONT - 1, frameon=False)
-    fig.suptitle("Error on degraded silhouettes, by degradation and carving rule", fontsize=FONT + 2)
-    fig.tight_layout(rect=(0, 0.06, 1, 1))
+        label_panel(ax, KIND_TITLES[kind], LEVEL_TITLES[kind], "full-body RMS error (deg, Eq. 6)")
+    finish_panels(fig, axes, len(kinds), "Error on degraded silhouettes, by degradation and carving rule", ncol=3)
     return fig

@@ -92,19 +92,31 @@ def figure4(table: pd.DataFrame):
             ax.axvline(choice, color="C3", lw=1.5, ls=":", label="paper's choice")
         ax.text(0.02, 0.97, PAPER_STATEMENT[sweep], transform=ax.transAxes, va="top", fontsize=FONT - 1, color="C3",
                 bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.85})
-        ax.set_title(SWEEP_TITLES[sweep][0].upper() + SWEEP_TITLES[sweep][1:], fontsize=FONT + 1)
-        ax.set_xlabel(SWEEP_TITLES[sweep], fontsize=FONT)
-        ax.set_ylabel("validation error (deg, Eq. 6)", fontsize=FONT)
-        ax.tick_params(labelsize=FONT - 1)
-        ax.grid(alpha=0.3)
+        label_panel(ax, SWEEP_TITLES[sweep][0].upper() + SWEEP_TITLES[sweep][1:], SWEEP_TITLES[sweep],
+                    "validation error (deg, Eq. 6)")
         ax.margins(y=0.25)
-    for ax in axes.flat[len(sweeps):]:
+    finish_panels(fig, axes, len(sweeps), "Figure 4: validation error against the descriptor and feature parameters",
+                  ncol=4)
+    return fig
+
+
+def label_panel(ax, title: str, xlabel: str, ylabel: str) -> None:
+    """A panel's title, axis labels, tick labels and grid in the report's font sizes (readable at its width)."""
+    ax.set_title(title, fontsize=FONT + 1)
+    ax.set_xlabel(xlabel, fontsize=FONT)
+    ax.set_ylabel(ylabel, fontsize=FONT)
+    ax.tick_params(labelsize=FONT - 1)
+    ax.grid(alpha=0.3)
+
+
+def finish_panels(fig, axes, used: int, title: str, ncol: int) -> None:
+    """Hide the grid's unused panels, put the first panel's legend under the grid and the title above it."""
+    for ax in axes.flat[used:]:
         ax.set_axis_off()
     handles, names = axes.flat[0].get_legend_handles_labels()
-    fig.legend(handles, names, loc="lower center", ncol=4, fontsize=FONT - 1, frameon=False)
-    fig.suptitle("Figure 4: validation error against the descriptor and feature parameters", fontsize=FONT + 2)
+    fig.legend(handles, names, loc="lower center", ncol=ncol, fontsize=FONT - 1, frameon=False)
+    fig.suptitle(title, fontsize=FONT + 2)
     fig.tight_layout(rect=(0, 0.06, 1, 1))
-    return fig
 
 
 def joint_errors(summaries: dict):

@@ -83,5 +83,5 @@ def gallery(predictions: dict, voxels: dict, per_kind: int = 3, method: str = "m
             fontsize=11,
         )
     fig.suptitle("Test frames: carved voxels (grey), true skeleton (black), estimate (red)", fontsize=13)
-    fig.subplots_adjust(left=0, right=1, bottom=0, top=1 - 0.45 / fig.get_figheight(), wspace=0.02, hspace=0.12)
+    fig.subplots_adjust(left=0, right=1, bottom=0, top=1 - 0.8 / fig.get_figheight(), wspace=0.02, hspace=0.12)
     return fig

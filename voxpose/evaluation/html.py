@@ -2,7 +2,8 @@
 
 Snakemake's report shows an HTML result inside the page, where a CSV is only a download. Every page is
 self-contained (inline style, images as data URIs), legible at the report's width: 15 px text, numbers right
-aligned, measured rows shaded apart from the paper's.
+aligned with a value's 95 % interval on the line below it (a table of intervals then fits beside the
+report's info panel), measured rows shaded apart from the paper's.
 """
 
 import base64
@@ -14,11 +15,12 @@ import pandas as pd
 from voxpose.io.atomic import atomic_path
 
 _STYLE = """
-body { font: 15px/1.45 -apple-system, "Segoe UI", Helvetica, Arial, sans-serif; color: #222; margin: 12px; }
+body { font: 15px/1.45 -apple-system, "Segoe UI", Helvetica, Arial, sans-serif; color: #222; margin: 8px; }
 h1 { font-size: 21px; margin: 4px 0 8px; } h2 { font-size: 18px; margin: 18px 0 6px; }
 table { border-collapse: collapse; margin: 6px 0 4px; }
-th, td { border: 1px solid #bbb; padding: 3px 8px; } th { background: #eee; text-align: center; }
+th, td { border: 1px solid #bbb; padding: 3px 5px; } th { background: #eee; text-align: center; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
+td.num small { display: block; color: #555; }
 tr.ours td { background: #eaf2fb; } tr.paper td { background: #fff; } tr.diff td { color: #555; font-style: italic; }
 td.held { color: #15661f; font-weight: bold; } td.reversed { color: #a11; font-weight: bold; }
 td.notshown { color: #8a5a00; font-weight: bold; }

@@ -13,6 +13,7 @@ from pathlib import Path
 import pandas as pd
 
 from voxpose.errors import VoxposeError
+from voxpose.evaluation.generalisation import METHOD_LABELS
 from voxpose.evaluation.tables import (
     FULL_VARYING,
     MEAN_POSE,
@@ -141,8 +142,6 @@ def claims_markdown(df: pd.DataFrame) -> list[str]:
 
 def generalisation_markdown(df: pd.DataFrame) -> list[str]:
     """The subject-held-out table: per held-out group and method, the full body with its interval."""
-    names = {"mvrvm": "MPPCA + MVRVM", "kmeans": "K-means + MVRVM", "nearest_neighbour": "nearest neighbour",
-             "kernel_ridge": "kernel ridge", "mean_pose": "mean training pose"}  # fmt: skip
     head = ["held out", "method", "test frames", "training frames", "full body, 42 angles [95 %]",
             "full body, varying angles", "heading", "MPJPE (mm)"]  # fmt: skip
     title = "**Generalisation: each group held out in turn (degrees, Eq. 6)**"
@@ -152,7 +151,7 @@ def generalisation_markdown(df: pd.DataFrame) -> list[str]:
         if "full_body_low" in r and r["full_body_low"] == r["full_body_low"]:
             full += f" [{r['full_body_low']:.1f}, {r['full_body_high']:.1f}]"
         varying = f"{r['full_body_varying']:.1f} ({int(r['varying_angles'])})" if "varying_angles" in r else ""
-        lines.append(_line([str(r["held_out"]), names.get(r["method"], r["method"]), str(int(r["frames"])),
+        lines.append(_line([str(r["held_out"]), METHOD_LABELS.get(r["method"], r["method"]), str(int(r["frames"])),
                             str(int(r["train_frames"])), full, varying, f"{r['heading']:.1f}",
                             f"{r['mpjpe_mm']:.0f}"]))  # fmt: skip
     return lines

@@ -177,7 +177,7 @@ def claims_rows(df: pd.DataFrame) -> tuple[pd.DataFrame, dict]:
                 for d, lo, hi in zip(df["difference A - B"], df["difference low"], df["difference high"], strict=True)
             ],
             "p (bootstrap)": [f"{p:.3g}" if p > 0 else "< 0.001" for p in df["p (paired bootstrap)"]],
-            "p (Wilcoxon)": [f"{p:.3g}" for p in df["p (Wilcoxon, per frame)"]],
+            "p (Wilcoxon)": [f"{p:.2g}" for p in df["p (Wilcoxon, per frame)"]],
             "verdict": df["verdict"],
         }
     )

@@ -12,6 +12,11 @@ lemma) and ``C_i^-1 = (I - W_i M_i^-1 W_i^T) / sigma_i^2`` (Woodbury), with ``M_
 ``[mu_1 .. mu_K | V_1 .. V_K]`` (d x K(q + 1)) serves every component, and the mixture is combined by
 log-sum-exp. Rows are shifted by the mixture mean ``sum_i pi_i mu_i`` before the products to limit
 cancellation in ``|t|^2 - 2 t.mu + |mu|^2``.
+
+Speed. The E-step constants (Cholesky factors, log-determinants, the stacked projection) are computed once per
+fitted parameter set and cached on the estimator (:meth:`MPPCA._projection`). In high dimension most terms of the
+log-sum-exp lie hundreds of nats below their row's maximum, where ``exp`` is exactly 0.0 in float64 and numpy's
+``exp`` takes a slow path; :func:`_exp` evaluates it only where it can be non-zero, bit for bit the same result.
 """
 
 import logging
@@ -29,6 +34,10 @@ from voxpose.validation import as_rows, check_fitted, integer
 log = logging.getLogger(__name__)
 
 _LOG_2PI = float(np.log(2.0 * np.pi))
+_EXP_ZERO = -750.0
+"""``exp(x)`` of float64 ``x <= _EXP_ZERO`` is 0.0 (its exact value, below 2^-1082, rounds to zero)."""
+_EXP_DENSE = 0.5
+"""Above this fraction of entries that may be non-zero, :func:`_exp` evaluates ``np.exp`` everywhere."""
 _NEGLIGIBLE = 1e-30
 _SPARSE_FRACTION = 0.05
 
@@ -122,16 +131,35 @@ def _log_joint_chunks(X, proj, chunk_size):
         x1 = np.ones((rows.shape[0], rows.shape[1] + 1))
         np.subtract(rows, proj.offset, out=x1[:, :-1])
         prod = x1.astype(proj.stack.dtype, copy=False) @ proj.stack
-        sqdist = np.einsum("nd,nd->n", x1[:, :-1], x1[:, :-1])[:, None] - 2.0 * prod[:, :n_components]
+        sqdist = prod[:, :n_components] * 2.0  # in place from here: each (c, K) temporary costs memory traffic
+        np.subtract(np.einsum("nd,nd->n", x1[:, :-1], x1[:, :-1])[:, None], sqdist, out=sqdist)
         latent = prod[:, n_components:].reshape(len(x1), n_components, n_latent)
-        mahalanobis = (sqdist - np.einsum("nkq,nkq->nk", latent, latent)) / proj.noise_variance
-        yield x1, proj.log_norm - 0.5 * mahalanobis, latent, sqdist
+        log_joint = np.einsum("nkq,nkq->nk", latent, latent)
+        np.subtract(sqdist, log_joint, out=log_joint)
+        log_joint /= proj.noise_variance  # the Mahalanobis term
+        log_joint *= -0.5
+        log_joint += proj.log_norm
+        yield x1, log_joint, latent, sqdist
+
+
+def _exp(a):
+    """``np.exp(a)`` bit for bit, evaluated only where it can be non-zero (``a > _EXP_ZERO``, or NaN).
+
+    For log-sum-exp terms, most of which underflow: numpy's ``exp`` of such arguments is several times slower
+    than of ordinary ones (measured 4.7 against 0.6 ms for 819,200 entries, 1 % of them not underflowing).
+    """
+    live = np.flatnonzero(~(a <= _EXP_ZERO))
+    if live.size > _EXP_DENSE * a.size:
+        return np.exp(a)
+    out = np.zeros_like(a)
+    out.flat[live] = np.exp(a.flat[live])
+    return out
 
 
 def _logsumexp_rows(a):
     """``log(sum(exp(a), axis=1))`` without overflow, shape (n,)."""
     peak = a.max(axis=1)
-    return peak + np.log(np.exp(a - peak[:, None]).sum(axis=1))
+    return peak + np.log(_exp(a - peak[:, None]).sum(axis=1))
 
 
 def _chunk_moments(x1, resp, latent, sqdist):
@@ -173,7 +201,7 @@ def _accumulate(X, proj, chunk_size):
     total = 0.0
     for x1, log_joint, latent, sqdist in _log_joint_chunks(X, proj, chunk_size):
         log_p = _logsumexp_rows(log_joint)
-        chunk_moments, chunk_sqdist = _chunk_moments(x1, np.exp(log_joint - log_p[:, None]), latent, sqdist)
+        chunk_moments, chunk_sqdist = _chunk_moments(x1, _exp(log_joint - log_p[:, None]), latent, sqdist)
         moments += chunk_moments
         sqdist_sum += chunk_sqdist
         total += float(log_p.sum())
@@ -460,7 +488,7 @@ class MPPCA:
                 change,
                 f", re-seeded {int(starved.sum())}" if starved.any() else "",
             )
-        self.weights_, self.means_, self.components_, self.noise_variance_ = params
+        self._set_params(params)
         self.noise_variance_floor_ = floor
         self.log_likelihood_ = history
         self.n_iter_ = n_iter
@@ -496,20 +524,37 @@ class MPPCA:
         """
         n_components, n_features, n_latent = np.shape(arrays["components"])
         model = cls(n_components, n_latent=n_latent)
-        model.weights_, model.means_ = arrays["weights"], arrays["means"]
-        model.components_, model.noise_variance_ = arrays["components"], arrays["noise_variance"]
+        model._set_params(_Params(arrays["weights"], arrays["means"], arrays["components"], arrays["noise_variance"]))
         model.noise_variance_floor_ = meta["noise_variance_floor"]
         model.log_likelihood_, model.n_iter_ = list(meta["log_likelihood"]), meta["n_iter"]
         model.converged_, model.n_reseeded_ = meta["converged"], meta["n_reseeded"]
         model.n_features_in_ = n_features
         return model
 
+    def _set_params(self, params):
+        """Store fitted parameters as read-only copies, so that they change only by being replaced (which
+        :meth:`_projection` notices)."""
+        frozen = []
+        for array in params:
+            array = np.array(array)
+            array.flags.writeable = False
+            frozen.append(array)
+        self.weights_, self.means_, self.components_, self.noise_variance_ = frozen
+
+    def _projection(self):
+        """The E-step constants of the fitted parameters, computed once per parameter set (cached on the
+        estimator, keyed on the parameter arrays themselves: replacing one recomputes them)."""
+        params = _Params(self.weights_, self.means_, self.components_, self.noise_variance_)
+        cached = self.__dict__.get("_projection_cache")
+        if cached is None or any(new is not old for new, old in zip(params, cached[0], strict=True)):
+            cached = self._projection_cache = (params, _project(params))
+        return cached[1]
+
     def _scoring_setup(self, X):
         """Validate ``X`` against the fitted model; return (X, projection, chunk size)."""
         check_fitted(self, "components_")
         X = as_rows(X, "MPPCA input", self.n_features_in_, dtype=None)
-        params = _Params(self.weights_, self.means_, self.components_, self.noise_variance_)
-        return X, _project(params), integer(self.chunk_size, "chunk_size")
+        return X, self._projection(), integer(self.chunk_size, "chunk_size")
 
     def score_samples(self, X):
         """Log density ``log p(t_n)`` of each row of ``X`` (n, d) under the mixture: shape (n,)."""
@@ -524,5 +569,5 @@ class MPPCA:
         """Responsibilities ``p(i | t_n)`` of each component for each row of ``X`` (n, d): shape (n, K)."""
         X, proj, chunk = self._scoring_setup(X)
         return np.concatenate(
-            [np.exp(lj - _logsumexp_rows(lj)[:, None]) for _, lj, _, _ in _log_joint_chunks(X, proj, chunk)]
+            [_exp(lj - _logsumexp_rows(lj)[:, None]) for _, lj, _, _ in _log_joint_chunks(X, proj, chunk)]
         )

@@ -22,8 +22,6 @@ _STEPS = 8
 _TOLERANCE = 0.02  # stop when the count is within this fraction of n_basis
 _FIRST_GUESS = 1.35  # cells of side sqrt(1.35 N / n) hold about n basis voxels on carved bodies
 
-_NEIGHBOURS = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]])
-
 
 def _check_ijk(ijk, what: str) -> np.ndarray:
     ijk = np.asarray(ijk)
@@ -32,18 +30,27 @@ def _check_ijk(ijk, what: str) -> np.ndarray:
     return ijk.astype(np.int64, copy=False)
 
 
+def _box_index(columns, pad: int):
+    """(flat index of every voxel in its bounding box widened by ``pad`` on each side, the box's strides, its
+    size); ``columns`` are the three coordinate arrays, taken one by one because reductions along the short
+    axis of an (N, 3) array are several times slower in numpy (28 against 6 us for 2000 voxels)."""
+    local = [c - c.min() + pad for c in columns]
+    sizes = [int(c.max()) + 1 + pad for c in local]
+    strides = (sizes[1] * sizes[2], sizes[2], 1)
+    return (local[0] * sizes[1] + local[1]) * sizes[2] + local[2], strides, sizes[0] * strides[0]
+
+
 def surface_mask(ijk) -> np.ndarray:
     """(N,) bool: which of the occupied voxels ``ijk`` (N, 3) have an empty 6-neighbour."""
     ijk = _check_ijk(ijk, "surface_mask")
     if len(ijk) == 0:
         return np.zeros(0, dtype=bool)
-    local = ijk - ijk.min(axis=0) + 1
-    grid = np.zeros(local.max(axis=0) + 2, dtype=bool)
-    grid[local[:, 0], local[:, 1], local[:, 2]] = True
+    index, strides, size = _box_index(ijk.T, pad=1)  # the padding keeps every neighbour inside the box
+    grid = np.zeros(size, dtype=bool)
+    grid[index] = True
     full = np.ones(len(ijk), dtype=bool)
-    for step in _NEIGHBOURS:
-        n = local + step
-        full &= grid[n[:, 0], n[:, 1], n[:, 2]]
+    for stride in strides:
+        full &= grid.take(index + stride) & grid.take(index - stride)
     return ~full
 
 
@@ -61,25 +68,28 @@ def grid_sample(ijk, cell: float, offset=(0.0, 0.0, 0.0)) -> np.ndarray:
     keys, inverse = _cells(ijk, cell, offset)
     n_cells = len(keys)
     counts = np.bincount(inverse, minlength=n_cells)
-    centroid = np.stack([np.bincount(inverse, ijk[:, a], minlength=n_cells) for a in range(3)], axis=1)
-    centroid /= counts[:, None]
-    dist = ((ijk - centroid[inverse]) ** 2).sum(axis=1)
-    order = np.lexsort((np.arange(len(ijk)), dist, inverse))
-    first = np.r_[True, inverse[order][1:] != inverse[order][:-1]]
+    dist = 0.0
+    for column in ijk.T:  # squared distance to the cell's centroid, summed over the axes in order
+        centroid = np.bincount(inverse, column, minlength=n_cells) / counts
+        dist = dist + (column - centroid.take(inverse)) ** 2
+    order = np.lexsort((dist, inverse))  # stable: ties keep the lower index
+    grouped = inverse.take(order)
+    first = np.r_[True, grouped[1:] != grouped[:-1]]
     return np.sort(order[first])
 
 
 def _cell_keys(ijk, cell, offset):
     """Each voxel's cell as one integer in ``0 .. n_keys - 1``, and ``n_keys``."""
-    c = np.floor((ijk + np.asarray(offset, dtype=float)) / cell).astype(np.int64)
-    c -= c.min(axis=0)
-    span = c.max(axis=0) + 1
-    return (c[:, 0] * span[1] + c[:, 1]) * span[2] + c[:, 2], int(np.prod(span))
+    cells = [np.floor((ijk[:, a] + float(offset[a])) / cell).astype(np.int64) for a in range(3)]
+    keys, _, n_keys = _box_index(cells, pad=0)
+    return keys, n_keys
 
 
 def _cells(ijk, cell, offset):
-    """Unique cell keys and each voxel's cell number."""
-    return np.unique(_cell_keys(ijk, cell, offset)[0], return_inverse=True)
+    """Unique cell keys (sorted) and each voxel's cell number, as ``np.unique(..., return_inverse=True)``."""
+    key, n_keys = _cell_keys(ijk, cell, offset)
+    present = np.bincount(key, minlength=n_keys) > 0
+    return np.flatnonzero(present), (np.cumsum(present) - 1).take(key)
 
 
 def _count_cells(ijk, cell, offset) -> int:
