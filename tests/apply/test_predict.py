@@ -11,6 +11,7 @@ import pytest
 from tests.helpers import without_frame
 from voxpose.apply.model_file import load_model
 from voxpose.apply.outputs import read_record
+from voxpose.apply.posed_body import skeleton_height
 from voxpose.apply.root_fit import fit_roots
 from voxpose.cli.main import main
 from voxpose.descriptors.file import read_descriptors
@@ -123,7 +124,12 @@ def test_predict_from_voxels_carries_truth_and_renders(trained, tmp_path):
     np.testing.assert_allclose(prediction.angles, workflow["pred_mvrvm"], atol=1e-9)
     np.testing.assert_array_equal(prediction.true_angles, workflow["true"])
     assert prediction.fps == 30.0 and meta["source"] == {"voxels": str(d / f"vox_{TEST}.h5")}
-    np.testing.assert_array_equal(skeleton.offsets, load_model(d / "model.h5").skeleton.offsets)
+    # the model's output skeleton scaled to the subject's measured height (tests/apply/test_root_fit.py)
+    model_skeleton = load_model(d / "model.h5").skeleton
+    factor = prediction.voxels.h_sub / skeleton_height(model_skeleton)
+    np.testing.assert_allclose(skeleton.offsets, model_skeleton.offsets * factor, rtol=1e-12)
+    np.testing.assert_allclose(skeleton.end_lengths, model_skeleton.end_lengths * factor, rtol=1e-12)
+    assert abs(factor - 1) > 0.01  # the test walk is not the training subjects' size
     # the root is the estimated body's fit to the hull (tests/apply/test_root_fit.py), in the record and the BVH
     fitted = fit_roots(prediction.voxels, prediction.angles, prediction.valid, skeleton)
     np.testing.assert_array_equal(prediction.root, fitted)

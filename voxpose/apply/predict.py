@@ -15,9 +15,10 @@ an obvious non-pose, never an interpolated or repeated estimate.
 
 Root position. The regressor estimates joint angles only (Section 2). So that the skeleton moves with the
 subject, the BVH root is put where the body model posed by the estimated angles (after smoothing) on the
-model's output skeleton best overlaps each frame's visual hull (``voxpose.apply.root_fit``; not the hull's
-centroid, which a dress or raised arms move), in world metres: minus the re-centring ``shifts`` of synthetic
-voxel files.
+model's output skeleton, scaled to the subject's measured height ``h_sub`` (``posed_body.subject_skeleton``),
+best overlaps each frame's visual hull (``voxpose.apply.root_fit``; not the hull's centroid, which a dress or
+raised arms move), in world metres: minus the re-centring ``shifts`` of synthetic voxel files. The BVH is
+written on that scaled skeleton, so its feet reach the floor whatever the subject's size.
 
 Temporal smoothing (``smooth`` > 0; off by default, the paper estimates every frame independently): each
 angle, unwrapped over time, is convolved with a Gaussian of standard deviation ``smooth`` frames
@@ -32,12 +33,14 @@ import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
 from voxpose.apply.model_file import PoseModel
+from voxpose.apply.posed_body import subject_skeleton
 from voxpose.apply.root_fit import fit_roots
 from voxpose.descriptors.sequence import describe_sequence
 from voxpose.descriptors.settings import DescriptorSettings
 from voxpose.errors import VoxposeError
 from voxpose.evaluation import metrics
 from voxpose.motion import canon
+from voxpose.motion.output_skeleton import OutputSkeleton
 from voxpose.motion.rotations import unwrap_degrees
 from voxpose.regression import pose_encoding
 from voxpose.voxels.sequence import VoxelSequence
@@ -61,6 +64,7 @@ class Prediction:
     true_angles : (F, 42) ground truth when the input carries it, else None.
     smooth : the temporal smoothing applied (Gaussian sigma in frames; 0: none).
     novelty : how far the input lies from the training data (features/novelty.py), None without a range.
+    skeleton : the output skeleton scaled to the subject (module docstring), None when not known.
     """
 
     angles: np.ndarray
@@ -72,6 +76,7 @@ class Prediction:
     true_angles: np.ndarray | None = None
     smooth: float = 0.0
     novelty: dict | None = None
+    skeleton: OutputSkeleton | None = None
 
     def world_root(self) -> np.ndarray:
         """(F, 3) root positions in the recording's world frame: the voxel frame minus the ``shifts``."""
@@ -155,10 +160,11 @@ def predict_voxels(model: PoseModel, seq: VoxelSequence, *, frames=None, fps=Non
     frames = np.arange(seq.n_frames) if frames is None else np.asarray(frames)
     if true_angles is not None and np.shape(true_angles) != angles.shape:
         raise VoxposeError(f"predict: true angles have shape {np.shape(true_angles)}, expected {angles.shape}")
-    root = fit_roots(seq, angles, valid, model.skeleton, name=name)
+    skeleton = subject_skeleton(model.skeleton, seq.h_sub)
+    root = fit_roots(seq, angles, valid, skeleton, name=name)
     return Prediction(angles=angles, valid=valid, root=root, voxels=seq, frames=frames,
                       fps=float(fps or model.fps), true_angles=true_angles, smooth=float(smooth),
-                      novelty=novelty)  # fmt: skip
+                      novelty=novelty, skeleton=skeleton)  # fmt: skip
 
 
 def bvh_channels(prediction: Prediction) -> tuple[np.ndarray, np.ndarray]:
