@@ -5,7 +5,9 @@ import numpy as np
 
 from voxpose.io.atomic import atomic_path
 from voxpose.io.hdf5 import (
+    check_layout,
     new_file,
+    open_file,
     open_layout,
     read_arrays,
     read_meta,
@@ -43,3 +45,11 @@ def read_contours(path):
     """-> (contexts (N, bins), offsets (images + 1,), meta) of a file written by ``write_contours``."""
     arrays, meta = read_arrays(path, "silhouette-contexts")
     return arrays["contexts"], arrays["offsets"], meta
+
+
+def contour_layout(path):
+    """-> (offsets (images + 1,), meta) of a file written by ``write_contours``, without reading its contexts
+    or checking its checksum (``read_contours`` does both when the contexts are needed)."""
+    with open_file(path, "silhouette-contexts") as f:
+        check_layout(f, path, "silhouette-contexts")
+        return f["offsets"][()], read_meta(f)
