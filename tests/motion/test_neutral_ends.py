@@ -1,0 +1,117 @@
+"""The 42 angles of one motion on two skeleton conventions (issue 18 item 2), and the ends at rest on real data.
+
+The second convention is built in the test from the generated skeleton's world trajectories: other bone-local
+axes (each bone along its local +X with a random twist, Bandai style), other Euler orders, an extra spine joint
+with its own twist, and a hand End Site placed like CMU's index knuckle, off the hand's axis; it is loaded through
+the normal loader with a config joint map. Truth: the generated motion's own angles.
+"""
+
+import numpy as np
+import pytest
+
+from tests.helpers import rebase_frames, renamed, reorder_channels
+from voxpose.io.bvh import Bvh, BvhJoint, read_bvh, write_bvh
+from voxpose.motion import canon
+from voxpose.motion.bvh_kinematics import forward_kinematics, local_transforms, rest_pose
+from voxpose.motion.canonical_pose import canonical_pose
+from voxpose.motion.generate import default_motion
+from voxpose.motion.joint_map import resolve_joint_map, skeleton_points
+from voxpose.motion.load import load_motion
+from voxpose.motion.rotations import axis_angle_to_matrix, axis_rotation, matrix_to_euler, minimal_rotation
+
+ROTATION = ("Zrotation", "Xrotation", "Yrotation")
+KNUCKLE = np.array([0.0, -0.30, 0.20])  # off the hand axis, per unit hand length, in the hand's frame (~20 deg)
+
+
+def with_extra_spine_joint(bvh: Bvh) -> Bvh:
+    """``bvh`` with a joint ``Spine2`` halfway between ``Spine`` and ``Chest``, twisting about that bone over
+    time while ``Chest`` untwists: the same world positions and rotations of every other joint."""
+    _, local = local_transforms(bvh)
+    chest = next(i for i, j in enumerate(bvh.joints) if j.name == "Chest")
+    half = 0.5 * bvh.joints[chest].offset
+    t = np.arange(bvh.n_frames) / bvh.n_frames
+    twist = axis_angle_to_matrix(half / np.linalg.norm(half), np.radians(10.0 + 20.0 * np.sin(2 * np.pi * t)))
+    rows, rotations = [], []
+    for i, joint in enumerate(bvh.joints):
+        parent = -1 if joint.parent < 0 else joint.parent + (joint.parent >= chest)
+        if i == chest:
+            rows.append(BvhJoint("Spine2", parent, half, ROTATION, None))
+            rotations.append(twist)
+            joint, parent = BvhJoint(joint.name, chest, half, joint.channels, joint.end_site), chest
+            rotations.append(np.swapaxes(twist, -1, -2) @ local[:, i])
+        else:
+            rotations.append(local[:, i])
+        rows.append(BvhJoint(joint.name, parent, joint.offset, joint.channels, joint.end_site))
+    blocks = [bvh.motion[:, :3]]  # the root's position channels (the generated root writes them first)
+    for row, rot in zip(rows, rotations, strict=True):
+        order = "".join(c[0] for c in row.channels if c.endswith("rotation"))
+        blocks.append(matrix_to_euler(rot, order))
+    return Bvh(rows, bvh.frame_time, np.concatenate(blocks, axis=1))
+
+
+def knuckle_rig(bvh: Bvh) -> Bvh:
+    """The second convention (module docstring); joint names get a ``_b`` suffix."""
+    axes = {}  # each hand's anatomical axis (the generated End Site) before the End Site moves to the knuckle
+    joints = []
+    for joint in bvh.joints:
+        site = joint.end_site
+        if joint.name.endswith("Hand"):
+            axes[joint.name] = site.copy()
+            site = site + np.linalg.norm(site) * KNUCKLE
+        joints.append(BvhJoint(joint.name, joint.parent, joint.offset, joint.channels, site))
+    spine = with_extra_spine_joint(Bvh(joints, bvh.frame_time, bvh.motion))
+    rng = np.random.default_rng(7)
+    frames = {}
+    for j, joint in enumerate(spine.joints):
+        bone = axes.get(joint.name, next((c.offset for c in spine.joints if c.parent == j), joint.end_site))
+        frames[joint.name] = minimal_rotation([1.0, 0.0, 0.0], bone) @ axis_rotation("X", rng.uniform(-180, 180))
+    rig = reorder_channels(rebase_frames(spine, frames), seed=4)
+    return renamed(rig, {j.name: j.name + "_b" for j in rig.joints})
+
+
+GENERATED_MAP = {
+    "root": "Hips", "neck": "Neck", "head_top": "Head", "lshoulder": "LeftArm", "lelbow": "LeftForeArm",
+    "lwrist": "LeftHand", "lhand_tip": "LeftHand", "lhip": "LeftUpLeg", "lknee": "LeftLeg", "lankle": "LeftFoot",
+    "ltoe": "LeftToe",
+}  # fmt: skip
+GENERATED_MAP |= {"r" + k[1:]: v.replace("Left", "Right") for k, v in GENERATED_MAP.items() if k[0] == "l"}
+KNUCKLE_MAP = {k: v + "_b" for k, v in GENERATED_MAP.items()}
+
+
+@pytest.mark.parametrize("kind", ["walk", "jump"])
+def test_one_motion_on_two_conventions_gives_the_same_42_angles(tmp_path, kind):
+    generated = default_motion(kind, 0, n_frames=45, seed=5)
+    other = knuckle_rig(generated)
+    assert [j.channels for j in other.joints[1:]] != [j.channels for j in generated.joints[1:]]
+    write_bvh(generated, tmp_path / "a" / f"{kind}_a.bvh")
+    write_bvh(other, tmp_path / "b" / f"{kind}_b.bvh")
+    a = load_motion(tmp_path / "a" / f"{kind}_a.bvh", drop_reference_frame=False)
+    b = load_motion(tmp_path / "b" / f"{kind}_b.bvh", joint_map=KNUCKLE_MAP, drop_reference_frame=False)
+    assert a.source["skeleton"] == "generated" and b.source["skeleton"] == "config"
+    assert np.abs(a.positions - b.positions).max() < 1e-4  # the same world landmarks (metres)
+    # the knuckle lies off the forearm: measured towards it, the wrists would be ~20 degrees off
+    rest = rest_pose(other)
+    joints, _ = skeleton_points(rest, resolve_joint_map(rest, KNUCKLE_MAP))
+    _, _, sites = forward_kinematics(rest)
+    left = [j.name for j in other.joints].index("LeftHand_b")
+    forearm = joints[0, canon.INDEX["lwrist"]] - joints[0, canon.INDEX["lelbow"]]
+    knuckle = sites[left][0] - joints[0, canon.INDEX["lwrist"]]
+    cos = forearm @ knuckle / np.linalg.norm(forearm) / np.linalg.norm(knuckle)
+    assert np.degrees(np.arccos(cos)) > 15.0
+    assert np.abs(a.angles - b.angles).max() < 1.0
+    assert np.abs(a.angles).max() > 20.0  # a real motion
+
+
+def rest_end_angles(path, joint_map=None) -> np.ndarray:
+    """Bends (degrees) of the wrists between forearm and hand tip in the rest pose (all channels zero)."""
+    rest = rest_pose(read_bvh(path))
+    joints, ends = skeleton_points(rest, resolve_joint_map(rest, joint_map))
+    angles = canonical_pose(joints, ends).angles.reshape(-1, canon.N_JOINTS, 3)
+    return np.abs(angles[0, [canon.INDEX["lwrist"], canon.INDEX["rwrist"]]]).max()
+
+
+def test_real_rest_wrists_are_straight_on_cmu_and_bandai(shared_bvh_dir):
+    """Measured (benchmarks/end_angles.py): CMU's and Bandai's rest hands are straight, so their wrist angles
+    need no correction and agree at rest within 0.1 degrees."""
+    for path in sorted(shared_bvh_dir.glob("walk_*.bvh")):
+        assert rest_end_angles(path) < 0.1, path.name
