@@ -6,11 +6,15 @@ with its own twist, and a hand End Site placed like CMU's index knuckle, off the
 the normal loader with a config joint map. Truth: the generated motion's own angles.
 """
 
+import logging
+from pathlib import Path
+
 import numpy as np
 import pytest
+import yaml
 
 from tests.helpers import rebase_frames, renamed, reorder_channels
-from voxpose.io.bvh import Bvh, BvhJoint, read_bvh, write_bvh
+from voxpose.io.bvh import Bvh, BvhJoint, joint_columns, read_bvh, write_bvh
 from voxpose.motion import canon
 from voxpose.motion.bvh_kinematics import forward_kinematics, local_transforms, rest_pose
 from voxpose.motion.canonical_pose import canonical_pose
@@ -18,8 +22,10 @@ from voxpose.motion.generate import default_motion
 from voxpose.motion.joint_map import resolve_joint_map, skeleton_points
 from voxpose.motion.load import load_motion
 from voxpose.motion.rotations import axis_angle_to_matrix, axis_rotation, matrix_to_euler, minimal_rotation
+from voxpose.workflow_config import motion_settings
 
 ROTATION = ("Zrotation", "Xrotation", "Yrotation")
+CONFIG = Path(__file__).resolve().parents[2] / "config" / "config.yaml"
 KNUCKLE = np.array([0.0, -0.30, 0.20])  # off the hand axis, per unit hand length, in the hand's frame (~20 deg)
 
 
@@ -115,3 +121,30 @@ def test_real_rest_wrists_are_straight_on_cmu_and_bandai(shared_bvh_dir):
     need no correction and agree at rest within 0.1 degrees."""
     for path in sorted(shared_bvh_dir.glob("walk_*.bvh")):
         assert rest_end_angles(path) < 0.1, path.name
+
+
+def test_a_rig_without_hand_rotation_has_straight_unmeasured_wrists(tmp_path, caplog):
+    generated = default_motion("walk", 1, n_frames=30, seed=6)
+    still = Bvh(generated.joints, generated.frame_time, generated.motion.copy())
+    for j, joint in enumerate(still.joints):
+        if joint.name.endswith("Hand"):
+            still.motion[:, joint_columns(still, j)[1]] = 0.0
+    write_bvh(generated, tmp_path / "walk_hands.bvh")
+    write_bvh(knuckle_rig(still), tmp_path / "walk_still.bvh")  # its knuckle End Sites lie ~20 degrees off axis
+    with caplog.at_level(logging.WARNING, logger="voxpose.motion.load"):
+        still_motion = load_motion(tmp_path / "walk_still.bvh", joint_map=KNUCKLE_MAP, drop_reference_frame=False)
+    assert still_motion.source["unmeasured"] == ["lwrist", "rwrist"]
+    assert "walk_still: the hand tips lie on the forearms' axes in every frame (lwrist, rwrist)" in caplog.text
+    wrists = [3 * canon.INDEX[w] + k for w in ("lwrist", "rwrist") for k in range(3)]
+    assert np.abs(still_motion.angles[:, wrists]).max() < 0.05
+    moving = load_motion(tmp_path / "walk_hands.bvh", drop_reference_frame=False)
+    assert moving.source["unmeasured"] == [] and np.abs(moving.angles[:, wrists]).max() > 5.0
+
+
+def test_shared_files_without_hands_are_flagged(shared_bvh_dir, shared_library_dir):
+    cmu = load_motion(shared_bvh_dir / "walk_cmu_07_01.bvh")
+    bandai = load_motion(shared_bvh_dir / "walk_bandai2_walk_normal_001.bvh")
+    assert cmu.source["unmeasured"] == [] and bandai.source["unmeasured"] == []
+    settings = motion_settings("idle_reactidle_000_genuine", yaml.safe_load(CONFIG.read_text())["motions"])
+    idle = load_motion(shared_library_dir / "idle_reactidle_000_genuine.bvh", **settings)
+    assert idle.source["unmeasured"] == ["lwrist", "rwrist"]

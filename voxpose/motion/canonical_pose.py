@@ -49,10 +49,11 @@ reference frame), so CMU's 28-29 degree wrist bends are recorded hand rotation (
 mean Z 15.5, Y -23.1 degrees in ``walk_cmu_07_01``), not rest geometry; Bandai records its hands too. A family
 that records no hand rotation (ReActIdle has no hand joints; the lab family of issue 18 has hand joints whose
 channels are all zero) has straight wrists in every frame: that difference is missing data, which no definition
-of the angles can restore. What a definition must handle is a hand end at another point of the hand, e.g. a
-knuckle off the hand's axis: the hand tips are therefore normalised to the rest pose's straight hand
-(``voxpose.motion.neutral_ends``), which changes no shared family (their rest hands are straight) and makes a
-knuckle-ended rig agree with the generated one within 1 degree instead of 19-20 (tests/motion/test_neutral_ends.py).
+of the angles can restore; ``load`` flags such wrists (``source["unmeasured"]``, ``neutral_ends.unmeasured_wrists``).
+What a definition must handle is a hand end at another point of the hand, e.g. a knuckle off the hand's axis:
+the hand tips are therefore normalised to the rest pose's straight hand (``voxpose.motion.neutral_ends``), which
+changes no shared family (their rest hands are straight) and makes a knuckle-ended rig agree with the generated
+one within 1 degree instead of 19-20 (tests/motion/test_neutral_ends.py).
 
 The head top and the toes keep their mapped points. A rest correction needs a rest pose whose end is neutral,
 and is not invariant to how a rig lays its bone frames: correcting the head to the trunk's rest direction turned

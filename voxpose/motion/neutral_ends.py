@@ -19,7 +19,9 @@ and loses only its rest offset from the forearm's axis. ``C`` is the identity, a
 rest hand is straight: on every shared family (CMU, Bandai, ReActIdle, generated: wrist bend 0.0 degrees at
 rest, ``benchmarks/end_angles.py``) and on any rig that lays each bone along a local axis (Bandai style).
 
-The head top and the toes are not normalised; ``canonical_pose`` gives the numbers and the reasons.
+A file whose hand tips lie on the forearms' axes in every frame records no hand rotation (``unmeasured_wrists``);
+``load`` warns and lists those wrists in the motion's ``source["unmeasured"]``, so that an evaluation can leave
+them out. The head top and the toes are not normalised; ``canonical_pose`` gives the numbers and the reasons.
 """
 
 import numpy as np
@@ -31,6 +33,7 @@ from voxpose.motion.rotations import minimal_rotation
 ANCHORS = {"lhand_tip": "lwrist", "rhand_tip": "rwrist"}
 NEUTRAL = {"lhand_tip": ("lelbow", "lwrist"), "rhand_tip": ("relbow", "rwrist")}
 _ZERO = 1e-9
+STRAIGHT = 0.1  # degrees: a hand tip this close to the forearm's axis in every frame was not measured
 
 
 def _rest_vector(vector: np.ndarray, what: str) -> np.ndarray:
@@ -67,4 +70,23 @@ def neutral_ends(joints: np.ndarray, ends: np.ndarray, carriers: np.ndarray, cor
         w = carriers[:, e]
         turn = w @ c @ np.swapaxes(w, -1, -2)
         out[:, e] = anchor + np.einsum("fab,fb->fa", turn, ends[:, e] - anchor)
+    return out
+
+
+def unmeasured_wrists(joints: np.ndarray, ends: np.ndarray) -> list[str]:
+    """The wrists whose hand tip lies on the forearm's axis (within ``STRAIGHT`` degrees) in every frame.
+
+    Such a file records no hand rotation (ReActIdle has no hand joints; the lab family of issue 18 writes its
+    hand channels as zeros), so its wrist angles are a straight hand, not a measurement: where other families
+    record their hands, they differ by what the hands did (CMU's wrists bend 28-29 degrees on average), not by
+    the definition of the angle. ``joints`` (F, 14, 3) and ``ends`` (F, 5, 3) are the normalised points.
+    """
+    out = []
+    for end, wrist in ANCHORS.items():
+        elbow = NEUTRAL[end][0]
+        forearm = joints[:, canon.INDEX[wrist]] - joints[:, canon.INDEX[elbow]]
+        hand = ends[:, canon.ENDS.index(end)] - joints[:, canon.INDEX[wrist]]
+        cos = np.sum(forearm * hand, axis=-1) / (np.linalg.norm(forearm, axis=-1) * np.linalg.norm(hand, axis=-1))
+        if joints.shape[0] and np.all(cos >= np.cos(np.radians(STRAIGHT))):
+            out.append(wrist)
     return out
