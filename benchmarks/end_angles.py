@@ -9,7 +9,9 @@ the segment and its parent's T-pose direction: wrist = forearm -> hand tip again
 -> toe against the shin's right angle, neck = neck -> head top against the pelvis frame's up, knee = shank against
 the thigh) and the three Euler angles of y', as mean and sd over all frames of all files (resampled to 30 fps,
 reference frames dropped, as the workflow loads them), then the same at rest (all BVH channels zero; for CMU
-also its leading reference-pose frame), mean over files.
+also its leading reference-pose frame), mean over files. Last, for the walks and jogs of each family with a toe
+joint, the left ankle's flexion (Euler X) measured towards the mapped toe and towards the ball of the foot (the
+toe joint, a landmark every such family places at the same anatomical point), at the source frame rate.
 """
 
 import argparse
@@ -57,6 +59,21 @@ def rest_values(bvh, joint_map, frame=None):
     joints, ends = skeleton_points(one, jmap, forward_kinematics(one))
     pose = canonical_pose(joints, ends)
     return bends(pose.rotations), euler(pose.angles)
+
+
+BALLS = {"cmu": "LeftToeBase", "bandai": "Toes_L", "generated": "LeftToe"}
+
+
+def ankle_flexion_to_ball(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Left ankle flexion (Euler X, degrees) towards the mapped toe and the toe joint, every frame but the first
+    (CMU's reference frame)."""
+    bvh = read_bvh(path)
+    fk = forward_kinematics(bvh)
+    joints, ends = skeleton_points(bvh, resolve_joint_map(bvh), fk)
+    balls = ends.copy()
+    balls[:, canon.ENDS.index("ltoe")] = fk[0][:, [j.name for j in bvh.joints].index(BALLS[family_of(path.stem)])]
+    column = 3 * canon.INDEX["lankle"] + 1
+    return tuple(canonical_pose(joints[1:], e[1:]).angles[:, column] for e in (ends, balls))
 
 
 def family_of(name: str) -> str:
@@ -115,6 +132,10 @@ def main():
         paths = sorted(args.bvh.glob("*.bvh")) + sorted(args.library.glob("*.bvh"))
         paths += generated_files(args.generated, Path(tmp))
         frames, rest = measure(paths)
+        report(frames, rest, paths)
+
+
+def report(frames, rest, paths):
     print("all frames: bend mean (sd) | Euler angles mean (sd), degrees")
     for family, table in frames.items():
         n = sum(len(a) for a in table[JOINTS[0], "bend"])
@@ -132,6 +153,14 @@ def main():
             e = np.concatenate(table[name, "euler"])
             eul = "  ".join(f"{m:6.1f}" for m in e.mean(0))
             print(f"  {name:7s} bend {b.mean():5.1f} [{b.min():5.1f}-{b.max():5.1f}] | {eul}")
+    print("\nleft ankle flexion (Euler X) in walks and jogs, towards the toe end | the ball (toe joint): mean (sd)")
+    for family in BALLS:
+        for kind in ("walk", "jog"):
+            found = [p for p in paths if family_of(p.stem) == family and p.stem.startswith(kind + "_")]
+            if found:
+                toe, ball = (np.concatenate(a) for a in zip(*map(ankle_flexion_to_ball, found), strict=True))
+                means = f"{toe.mean():6.1f} ({toe.std():4.1f}) | {ball.mean():6.1f} ({ball.std():4.1f})"
+                print(f"  {family:9s} {kind:4s} {means}")
 
 
 if __name__ == "__main__":

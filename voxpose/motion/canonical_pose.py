@@ -60,7 +60,11 @@ and is not invariant to how a rig lays its bone frames: correcting the head to t
 ``walk_cmu_07_01``'s neck angles by up to 1.2 degrees once its bones were re-laid along their local X
 (tests/motion/test_canonical_pose.py), because CMU's rest head leans 2.8 degrees (1.2-7.0 over the files) off
 its root -> neck line and the re-laid rest does not. For the feet, Bandai's zero pose has no neutral foot at all,
-and correcting CMU's (9-10 degrees at rest) would move its ankle mean to about -12.5, further from Bandai's 24.8. The
+and correcting CMU's (9-10 degrees at rest) would move its ankle mean to about -12.5, further from Bandai's 24.8.
+Nor is the ankle gap in where the toe end lies: towards the ball of the foot (the toe joint, which CMU, Bandai and
+the generated rig place at the same anatomical point) the walking ankle flexion averages 3.7 (CMU), 33.4 (Bandai)
+and 21.5 (generated) degrees, towards the mapped toe -3.2, 26.6 and 15.1: the ~30 degree CMU-Bandai difference is
+in the recorded feet. The
 rest knees are straight (0.0 degrees) on all four families measured; the lab family with 6-10 degree rest knees
 of issue 18 is not among the shared files.
 
