@@ -64,9 +64,9 @@ and correcting CMU's (9-10 degrees at rest) would move its ankle mean to about -
 Nor is the ankle gap in where the toe end lies: towards the ball of the foot (the toe joint, which CMU, Bandai and
 the generated rig place at the same anatomical point) the walking ankle flexion averages 3.7 (CMU), 33.4 (Bandai)
 and 21.5 (generated) degrees, towards the mapped toe -3.2, 26.6 and 15.1: the ~30 degree CMU-Bandai difference is
-in the recorded feet. The
-rest knees are straight (0.0 degrees) on all four families measured; the lab family with 6-10 degree rest knees
-of issue 18 is not among the shared files.
+in the recorded feet. The rest knees are straight (0.0 degrees) on all four families measured; the lab family of
+issue 18 (6-10 degree rest knees) is not among the shared files, and a rest correction of its knees would depend
+on its bone frames as the head's does (re-laid along local axes, any rest knee is straight).
 
 Offsets: the subject's skeleton in its own canonical frames, the median over frames of
 ``R_p^T (pos_j - pos_p)`` (root row zero), so that forward kinematics of y' (``voxpose.motion.pose_kinematics``)
