@@ -86,3 +86,14 @@ def test_world_frame_heading_does_not_hold(tmp_path):
     report("world", rows)
     assert rows[0]["heading_max"] == 0 and rows[0]["body_rms"] == 0
     assert max(r["heading_max"] for r in rows) > 5 or max(r["body_rms"] for r in rows) > 2
+
+
+@pytest.mark.xfail(reason="not yet: basis voxels drawn on the world grid move the 39 angles 4-6 deg RMS")
+def test_body_frame_heading_holds(tmp_path):
+    """Body-frame descriptors (``descriptor.frame: body``): the issue's thresholds, at every turn."""
+    model, motion, rig = train(tmp_path, DESCRIPTOR | {"frame": "body"})
+    assert model.descriptor["frame"] == "body"
+    rows = rotation_response(model, motion, rig, TURNS)
+    report("body", rows)
+    for r in rows:
+        assert r["heading_max"] <= 5.0 and r["body_rms"] < 2.0, r

@@ -26,8 +26,8 @@ def run(args):
     cfg = parse_params(args.params, schema=section("descriptor", required=False))
     settings = DescriptorSettings.from_config(cfg, "--params")
     seq, meta, _ = read_voxels(args.voxels)
-    descriptors = describe_sequence(seq, settings, threads=args.threads)
-    basis_ijk = [ijk[basis] for ijk, _, basis in map(seq.frame, range(seq.n_frames))]
+    descriptors, h0 = describe_sequence(seq, settings, threads=args.threads)
+    basis_ijk = [ijk[basis] for ijk, _, basis in map(seq.frame, range(seq.n_frames))]  # the world grid's
     out_meta = {
         "params": cfg,
         "motion": meta.get("motion"),
@@ -36,6 +36,6 @@ def run(args):
         "h_sub": seq.h_sub,
         "empty": seq.empty.tolist(),
     }
-    write_descriptors(args.output, descriptors, basis_ijk, out_meta)
+    write_descriptors(args.output, descriptors, basis_ijk, out_meta, h0 if settings.frame == "body" else None)
     n_desc = sum(map(len, descriptors))
     log.info("describe: %d frames, %d descriptors -> %s", seq.n_frames, n_desc, args.output)
