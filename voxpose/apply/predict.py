@@ -108,7 +108,7 @@ def describe(model: PoseModel, seq: VoxelSequence) -> tuple[list, np.ndarray]:
     """3D shape contexts (B_f, bins) of every frame (empty for gaps), float32-rounded like the workflow's files,
     in the frame the model was trained with, and (F,) the frames' reference headings (0 in the world frame)."""
     settings = DescriptorSettings.from_config(model.descriptor, "model descriptor")
-    descriptors, h0 = describe_sequence(seq, settings)
+    descriptors, h0 = describe_sequence(seq, settings, n_basis=model.voxels["n_basis"])
     return [d.astype(np.float32).astype(np.float64) for d in descriptors], h0
 
 

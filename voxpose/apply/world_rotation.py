@@ -6,6 +6,9 @@ A pose estimator that holds changes the body heading by the turn and leaves the 
 root's Euler order is Y-X-Z (``voxpose.motion.canon``), so ``Ry(phi) Ry(a0) Rx(a1) Rz(a2)`` has heading
 ``a0 + phi`` and the same ``a1``, ``a2`` and joint angles. ``rotation_response`` measures both on a motion:
 per turn, the predicted heading change minus the turn and the RMS change of the 39 angles below the root.
+Turns by multiples of 90 degrees map the voxel grid onto itself, so the carved hull turns exactly; other
+turns carve it on a grid turned against the body, a change of the same kind as moving the world by a
+fraction of a voxel, which ``shift_response`` measures.
 """
 
 from dataclasses import replace
@@ -29,6 +32,13 @@ def turned_rig(rig: Rig, degrees: float) -> Rig:
     centre ``-R^T t`` turns with it: ``R' = R Ry^T``, ``t`` unchanged)."""
     yaw = axis_rotation("Y", float(degrees))
     return Rig(rig.name, [replace(cam, R=cam.R @ yaw.T) for cam in rig.cameras])
+
+
+def shifted_rig(rig: Rig, offset) -> Rig:
+    """The rig with every camera moved by ``offset`` (3,) metres (``t' = t - R offset``): the subject, placed above
+    the rig's centre, moves with it against the voxel grid; a sub-voxel shift measures the carving's own noise."""
+    offset = np.asarray(offset, dtype=float)
+    return Rig(rig.name, [replace(cam, t=cam.t - cam.R @ offset) for cam in rig.cameras])
 
 
 def turned_motion(motion: MotionData, degrees: float) -> MotionData:
@@ -70,6 +80,13 @@ def response(base: np.ndarray, turned: np.ndarray, degrees: float) -> dict:
             "heading_rms": float(np.sqrt(np.mean(off**2))), "heading_max": float(np.abs(off).max()),
             "body_rms": float(np.sqrt(np.mean(change[:, BODY] ** 2))),
             "tilt_rms": float(np.sqrt(np.mean(change[:, tilt] ** 2)))}  # fmt: skip
+
+
+def shift_response(model, motion: MotionData, rig: Rig, offset, proportions=None) -> dict:
+    """``response`` (with no turn) of the world moved by ``offset`` metres against the voxel grid: what the
+    carving's discretisation alone does to the estimates, the floor a turn off the grid's axes cannot beat."""
+    base = predict_motion(model, motion, rig, proportions)
+    return response(base, predict_motion(model, motion, shifted_rig(rig, offset), proportions), 0.0)
 
 
 def rotation_response(model, motion: MotionData, rig: Rig, degrees, proportions=None) -> list[dict]:

@@ -22,11 +22,13 @@ def run(args):
     from voxpose.descriptors.sequence import describe_sequence
     from voxpose.descriptors.settings import DescriptorSettings
     from voxpose.voxels.sequence import read_voxels
+    from voxpose.voxels.settings import VoxelSettings
 
     cfg = parse_params(args.params, schema=section("descriptor", required=False))
     settings = DescriptorSettings.from_config(cfg, "--params")
     seq, meta, _ = read_voxels(args.voxels)
-    descriptors, h0 = describe_sequence(seq, settings, threads=args.threads)
+    n_basis = VoxelSettings.from_config(meta.get("params") or {}, f"{args.voxels}: params").n_basis
+    descriptors, h0 = describe_sequence(seq, settings, n_basis=n_basis, threads=args.threads)
     basis_ijk = [ijk[basis] for ijk, _, basis in map(seq.frame, range(seq.n_frames))]  # the world grid's
     out_meta = {
         "params": cfg,

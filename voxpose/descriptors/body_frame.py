@@ -35,11 +35,16 @@ to the grid: the rotation test of ``voxpose.apply.world_rotation``.
 
 import numpy as np
 
-from voxpose.voxels.surface import surface_mask
+from voxpose.voxels.surface import basis_indices, surface_mask
 
 H_BAND = 0.25
 """Height of the trunk band above the hull's vertical centroid, as a fraction of ``h_sub``: from the lower
 trunk to below the shoulders on the body model (the centroid sits near the pelvis)."""
+
+
+BASIS_SEED = 0
+"""Seed of the basis voxels' grid offset in the body frame (``voxels.surface.basis_indices``): the cells are
+anchored to the pivot, so they stay on the same parts of the body whichever way the world's axes point."""
 
 
 def reference_heading(points, h_sub_voxels: float) -> tuple[float, np.ndarray]:
@@ -74,7 +79,7 @@ def _yaw(points, degrees: float) -> np.ndarray:
     return np.stack([cos * x + sin * z, points[:, 1], -sin * x + cos * z], axis=1)
 
 
-def body_voxels(ijk, basis_ijk, h0: float, pivot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def body_voxels(ijk, n_basis: int, h0: float, pivot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A frame's voxels in its body frame: (occupied (N', 3), surface (N',) bool, basis (B, 3)) int64 on the
     grid turned by ``h0`` degrees about the vertical through ``pivot`` (module docstring, step 2)."""
     ijk = np.asarray(ijk, dtype=np.int64)
@@ -94,5 +99,5 @@ def body_voxels(ijk, basis_ijk, h0: float, pivot) -> tuple[np.ndarray, np.ndarra
     occupied = np.zeros(len(cells), dtype=bool)
     occupied[inside] = grid[tuple(local[inside].T)]
     body = cells[occupied]
-    basis = np.rint(_yaw(np.asarray(basis_ijk, dtype=np.float64) - pivot, -h0)).astype(np.int64)
-    return body, surface_mask(body), basis
+    surface = surface_mask(body)
+    return body, surface, body[surface][basis_indices(body[surface], n_basis, BASIS_SEED)]

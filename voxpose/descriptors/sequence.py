@@ -14,10 +14,11 @@ from voxpose.descriptors.settings import DescriptorSettings
 from voxpose.voxels.sequence import VoxelSequence
 
 
-def describe_sequence(seq: VoxelSequence, settings: DescriptorSettings, *, threads: int = 1):
+def describe_sequence(seq: VoxelSequence, settings: DescriptorSettings, *, n_basis: int, threads: int = 1):
     """``(descriptors, h0)``: (B_f, bins) float64 descriptors of every frame f (Section 4), with the subject
     height in voxels ``h_sub / l_res`` of the sequence, and (F,) the reference headings in degrees (0 in the
-    world frame and at gaps)."""
+    world frame and at gaps). In the body frame the basis voxels are drawn again on the turned grid, about
+    ``n_basis`` of them (the carving's setting); the world frame uses the sequence's own."""
     table = ShapeContextTable(seq.h_sub / seq.l_res, **settings.as_dict())
     out = [np.zeros((0, table.n_bins)) for _ in range(seq.n_frames)]
     h0 = np.zeros(seq.n_frames)
@@ -30,7 +31,7 @@ def describe_sequence(seq: VoxelSequence, settings: DescriptorSettings, *, threa
                 yield ijk[surface], ijk[basis]
                 continue
             h0[f], pivot = reference_heading(ijk, seq.h_sub / seq.l_res)
-            body, body_surface, body_basis = body_voxels(ijk, ijk[basis], h0[f], pivot)
+            body, body_surface, body_basis = body_voxels(ijk, n_basis, h0[f], pivot)
             yield body[body_surface], body_basis
 
     for f, desc in zip(carved, table.describe_frames(pairs(), threads=threads), strict=True):
