@@ -27,7 +27,9 @@ def run(args):
     cfg = parse_params(args.params, schema=section("descriptor", required=False))
     settings = DescriptorSettings.from_config(cfg, "--params")
     seq, meta, _ = read_voxels(args.voxels)
-    n_basis = VoxelSettings.from_config(meta.get("params") or {}, f"{args.voxels}: params").n_basis
+    n_basis = None  # the world frame keeps the carving's basis voxels; the body frame draws its own
+    if settings.frame == "body":
+        n_basis = VoxelSettings.from_config(meta.get("params") or {}, f"{args.voxels}: params").n_basis
     descriptors, h0 = describe_sequence(seq, settings, n_basis=n_basis, threads=args.threads)
     basis_ijk = [ijk[basis] for ijk, _, basis in map(seq.frame, range(seq.n_frames))]  # the world grid's
     out_meta = {

@@ -11,14 +11,19 @@ import numpy as np
 from voxpose.descriptors.body_frame import body_voxels, reference_heading
 from voxpose.descriptors.lut import ShapeContextTable
 from voxpose.descriptors.settings import DescriptorSettings
+from voxpose.errors import VoxposeError
 from voxpose.voxels.sequence import VoxelSequence
 
 
-def describe_sequence(seq: VoxelSequence, settings: DescriptorSettings, *, n_basis: int, threads: int = 1):
+def describe_sequence(
+    seq: VoxelSequence, settings: DescriptorSettings, *, n_basis: int | None = None, threads: int = 1
+):
     """``(descriptors, h0)``: (B_f, bins) float64 descriptors of every frame f (Section 4), with the subject
     height in voxels ``h_sub / l_res`` of the sequence, and (F,) the reference headings in degrees (0 in the
     world frame and at gaps). In the body frame the basis voxels are drawn again on the turned grid, about
     ``n_basis`` of them (the carving's setting); the world frame uses the sequence's own."""
+    if settings.frame == "body" and n_basis is None:
+        raise VoxposeError("describe: body-frame descriptors need the carving's n_basis")
     table = ShapeContextTable(seq.h_sub / seq.l_res, **settings.as_dict())
     out = [np.zeros((0, table.n_bins)) for _ in range(seq.n_frames)]
     h0 = np.zeros(seq.n_frames)
