@@ -5,7 +5,8 @@ sees; only the voxel grid and the world-aligned descriptors (Section 4) turn wit
 holds should then change the heading by the rotation and leave the 39 other angles alone. This script turns
 the motion and the rig's cameras by the same angles (``voxpose.apply.world_rotation``), carves and predicts
 each with a trained model, and prints, per angle, the heading change minus the rotation and the RMS change of the 39
-angles below the root against the unrotated prediction.
+angles below the root against the unrotated prediction; then the same for the world moved by a fraction of a
+voxel (``shift_response``: the carving's own noise, which a turn off the grid's axes also meets).
 
     python benchmarks/heading_rotation.py MODEL.h5 MOTION.bvh [--configfile config/quick.yaml]
         [--degrees 0 45 90 141 180 270] [--frames 60]
@@ -17,10 +18,11 @@ import argparse
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 import yaml
 
 from voxpose.apply.model_file import load_model
-from voxpose.apply.world_rotation import rotation_response
+from voxpose.apply.world_rotation import rotation_response, shift_response
 from voxpose.motion.load import load_motion
 from voxpose.voxels.cameras import rig_from_config
 
@@ -39,13 +41,18 @@ def main():
     n = args.frames
     motion = replace(motion, positions=motion.positions[:n], rotations=motion.rotations[:n],
                      angles=motion.angles[:n], ends=motion.ends[:n])  # fmt: skip
-    rows = rotation_response(model, motion, rig_from_config(cfg["rig"]), args.degrees,
-                             cfg.get("voxels", {}).get("proportions"))  # fmt: skip
+    rig, proportions = rig_from_config(cfg["rig"]), cfg.get("voxels", {}).get("proportions")
+    rows = rotation_response(model, motion, rig, args.degrees, proportions)
     print(f"{'turn':>6} {'heading change - turn: mean':>28} {'RMS':>6} {'max':>6} {'39 angles RMS':>14} "
           f"{'root tilt RMS':>14} {'heading error RMS':>18}")  # fmt: skip
     for r in rows:
         print(f"{r['degrees']:6.0f} {r['heading_mean']:28.1f} {r['heading_rms']:6.1f} {r['heading_max']:6.1f} "
               f"{r['body_rms']:14.2f} {r['tilt_rms']:14.2f} {r['heading_error']:18.1f}")  # fmt: skip
+    voxel = model.voxels["l_res_fraction"] * motion.height
+    for shift in ((0.5, 0.0, 0.3), (0.25, 0.0, -0.4)):
+        r = shift_response(model, motion, rig, voxel * np.array(shift), proportions)
+        print(f"world moved by {shift} voxels: heading change RMS {r['heading_rms']:.1f} (max {r['heading_max']:.1f}), "
+              f"39 angles RMS change {r['body_rms']:.2f}")  # fmt: skip
 
 
 if __name__ == "__main__":
