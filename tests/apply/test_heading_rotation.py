@@ -4,9 +4,9 @@ less than 2 deg RMS. Small models trained through the workflow's own commands on
 a held-out generated motion carved from a rig turned by each angle (``voxpose.apply.world_rotation``).
 
 Measured here (30 frames; turns 45 / 90 / 141 / 180 / 270 deg): world frame, heading change minus turn
-42 / 61 / 120 / 163 / 126 deg RMS and 39 angles 6.6 / 9.4 / 10.6 / 7.1 / 9.1 deg RMS; body frame, 30.5 / 0 / 16.0 /
-0 / 0 deg RMS (one frame's reference flipped front to back at 45 deg) and 3.8 / 0 / 3.4 / 0 / 0 deg RMS, where moving
-the world by half a voxel moves the 39 angles 3.8 - 5.5 deg RMS."""
+42 / 61 / 120 / 163 / 126 deg RMS and 39 angles 6.6 / 9.4 / 10.6 / 7.1 / 9.1 deg RMS; body frame, 33.7 / 0 / 7.3 /
+0 / 0 deg RMS (one frame's reference flipped front to back at 45 deg) and 3.6 / 0 / 3.7 / 0 / 0 deg RMS, where moving
+the world by half a voxel moves the 39 angles 3.8 - 4.5 deg RMS."""
 
 import json
 
