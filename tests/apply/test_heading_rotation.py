@@ -15,7 +15,9 @@ import pytest
 
 from tests.apply.test_predict import FEATURES, REGRESSION, RIG, VOXELS, run
 from voxpose.apply.model_file import load_model
+from voxpose.apply.outputs import read_record
 from voxpose.apply.world_rotation import rotation_response, shift_response, turned_motion, turned_rig
+from voxpose.io.hdf5 import read_per_motion
 from voxpose.motion.data import read_motion
 from voxpose.motion.rotations import axis_rotation
 from voxpose.voxels.cameras import circular_rig, load_rig
@@ -101,6 +103,10 @@ def test_body_frame_heading_holds(tmp_path):
     fraction of a voxel (``shift_response``), which no descriptor frame can remove."""
     model, motion, rig = train(tmp_path, DESCRIPTOR | {"frame": "body"})
     assert model.descriptor["frame"] == "body"
+    # the model file carries the frame to `voxpose predict`: the workflow's evaluation, number for number
+    run("predict", tmp_path / "model.h5", "--voxels", tmp_path / f"vox_{TEST}.h5", "-o", tmp_path / "p.bvh")
+    workflow = read_per_motion(tmp_path / "predictions.h5", "predictions")[0][TEST]
+    np.testing.assert_allclose(read_record(tmp_path / "p.h5")[0].angles, workflow["pred_mvrvm"], atol=1e-9)
     rows = rotation_response(model, motion, rig, TURNS)
     report("body", rows)
     floor = [shift_response(model, motion, rig, np.array(s) * model.voxels["l_res_fraction"] * motion.height)
