@@ -74,7 +74,7 @@ def cpu(fn, *args):
 def stand_in_model(sequences, motions, mppca_iter: int) -> PoseModel:
     """A model of the default sizes fitted on the benchmark's frames (timing only)."""
     model = PoseModel(VOXELS, DESCRIPTOR, None, None, None, "vector", OutputSkeleton.from_motions(motions))
-    descriptors = [d for seq in sequences for d in predict.describe(model, seq)]
+    descriptors = [d for seq in sequences for d in predict.describe(model, seq)[0]]
     cfg = {"n_components": 200, "n_latent": 5, "max_iter": mppca_iter, "tol": 1e-4, "fit_subsample": 20000}
     model.features = FeatureModel.fit("mppca", np.concatenate(descriptors), cfg, seed=0).with_novelty_range(descriptors)
     x, _ = predict.featurise(model, descriptors)
@@ -119,13 +119,13 @@ def main() -> None:
                 stages["carve"][r] += t
                 _, t = cpu(lambda frames: [basis_indices(v[surface_mask(v)], 200, 0) for v in frames], voxels)
                 stages["surface+basis"][r] += t
-                descriptors, t = cpu(predict.describe, model, seq_ref)
+                (descriptors, h0), t = cpu(predict.describe, model, seq_ref)
                 stages["3DSC"][r] += t
                 (features, counts), t = cpu(predict.featurise, model, descriptors)
                 stages["features"][r] += t
                 _, t = cpu(model.features.novelty, "bench", descriptors)
                 stages["novelty"][r] += t
-                angles, t = cpu(predict.regress, model, features, counts > 0)
+                angles, t = cpu(predict.regress, model, features, counts > 0, h0)
                 stages["regression"][r] += t
                 _, t = cpu(fit_roots, seq_ref, angles, counts > 0, model.skeleton)
                 stages["root fit"][r] += t

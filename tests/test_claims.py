@@ -9,7 +9,7 @@ from voxpose import workflow_config as wc
 from voxpose.errors import VoxposeError
 from voxpose.evaluation.run import Fit, evaluate
 from voxpose.features.model import FeatureModel
-from voxpose.features.silhouette import fit_codebook, render_contexts, silhouette_features
+from voxpose.features.silhouette import ContourSource, fit_codebook, render_contexts, silhouette_features
 from voxpose.regression.mvrvm import MVRVM
 from voxpose.regression.pose_space import PosePCA
 from voxpose.voxels.cameras import circular_rig, load_rig
@@ -77,7 +77,7 @@ def test_silhouette_features_per_view_and_refused_on_another_camera_count():
     assert len(offsets) == 4 * 3 + 1 and np.all(np.diff(offsets) == 40) and contexts.shape[1] == 60
     cfg = {"n_centres": 8, "neighbours": 2, "fit_subsample": None, "max_iter": 20}
     for cameras, width in (("all", 3 * 8), ([1], 8)):
-        model = fit_codebook([(contexts, offsets, 3)], cameras, cfg, seed=0)
+        model = fit_codebook([ContourSource(offsets, 3, lambda: contexts)], cameras, cfg, seed=0)
         features, counts = silhouette_features(model, contexts, offsets, 3)
         assert features.shape == (4, width) and np.all(counts == 40 * width // 8)
         # each view's block is a soft histogram: it sums to one
@@ -86,7 +86,7 @@ def test_silhouette_features_per_view_and_refused_on_another_camera_count():
     # the one-camera histogram is the one of camera 1's images alone
     alone = model.transform(contexts[offsets[1] : offsets[2]], np.zeros(40, dtype=int), 1)[0]
     assert np.allclose(single[0], alone[0])
-    model = fit_codebook([(contexts, offsets, 3)], "all", cfg, seed=0)
+    model = fit_codebook([ContourSource(offsets, 3, lambda: contexts)], "all", cfg, seed=0)
     with pytest.raises(VoxposeError, match="re-learnt"):
         silhouette_features(model, contexts[: offsets[8]], offsets[:9], 2)
 
@@ -134,3 +134,24 @@ def test_feature_model_round_trip_keeps_the_cameras(tmp_path):
     model.meta |= {"cameras": [0], "n_cameras": 4}
     model.save(tmp_path / "m.h5")
     assert FeatureModel.load(tmp_path / "m.h5").meta["cameras"] == [0]
+
+
+@pytest.mark.parametrize("cameras", ["all", [2], [0, 2]])
+def test_codebook_read_motion_by_motion_equals_the_fit_on_every_row(cameras):
+    """fit_codebook draws its fit_subsample rows across motions as if they were concatenated and reads each
+    motion once: the same codebook as a K-means fit on the concatenated rows of the chosen views."""
+    rig = circular_rig(n=3, focal_px=200.0, width=160, image_height=160)
+    sources, everything = [], []
+    for height, frames in ((1.6, 3), (1.75, 5), (1.9, 2)):
+        contexts, offsets = render_contexts(walk_motion(frames, height=height), rig, CONTOUR)
+        sources.append(ContourSource(offsets, 3, lambda contexts=contexts: contexts))
+        chosen = range(3) if cameras == "all" else cameras
+        everything += [contexts[offsets[f * 3 + c] : offsets[f * 3 + c + 1]] for f in range(frames) for c in chosen]
+    cfg = {"n_centres": 6, "neighbours": 2, "fit_subsample": 150, "max_iter": 20}
+    model = fit_codebook(sources, cameras, cfg, seed=4)
+    whole = np.concatenate(everything)
+    expected = FeatureModel.fit("kmeans", whole, {"n_components": 6, "kmeans_neighbours": 2, "fit_subsample": 150,
+                                                  "max_iter": 20}, 4)  # fmt: skip
+    assert model.meta["n_train"] == len(whole) > 150 and model.meta["n_fit"] == 150
+    for key, value in expected.to_arrays()[0].items():
+        np.testing.assert_array_equal(model.to_arrays()[0][key], value, err_msg=key)

@@ -92,7 +92,7 @@ def test_a_section_schema_checks_a_commands_parameters():
     validate({"n_r": 3}, schema, "--params")
     with pytest.raises(VoxposeError, match=r"^--params key n_r: 'abc' is not a number"):
         validate({"n_r": "abc"}, schema, "--params")
-    with pytest.raises(VoxposeError, match=r"^--params: unknown key 'bogus' \(known: n_a, n_e, n_r"):
+    with pytest.raises(VoxposeError, match=r"^--params: unknown key 'bogus' \(known: frame, n_a, n_e, n_r"):
         validate({"bogus": 1}, schema, "--params")
     with pytest.raises(VoxposeError, match=r"^--params: 'n_r' is a required property"):
         validate({}, section("descriptor"), "--params")

@@ -11,6 +11,7 @@ import pytest
 from tests.helpers import without_frame
 from voxpose.apply.model_file import load_model
 from voxpose.apply.outputs import read_record
+from voxpose.apply.posed_body import skeleton_height
 from voxpose.apply.root_fit import fit_roots
 from voxpose.cli.main import main
 from voxpose.descriptors.file import read_descriptors
@@ -34,7 +35,10 @@ VOXELS = {"l_res_fraction": 1 / 30, "min_views": None, "n_basis": 40, "follow_su
 DESCRIPTOR = {"n_r": 3, "n_e": 3, "n_a": 6, "r_min": 1.0, "r_max": 1 / 3, "soft": True, "normalise": False}
 FEATURES = {"n_components": 6, "n_latent": 2, "max_iter": 10, "tol": 1e-4, "fit_subsample": None,
             "kmeans_neighbours": 3}  # fmt: skip
-REGRESSION = {"pca_variance": 0.9, "heading": "vector", "kernel_width": "auto", "width_scales": [1.0],
+# a kernel 3 x the median distance: on these 72 training frames it predicts the test walk better than 1 x (Eq. 6
+# 9.2 against 10.2 deg) and varies smoothly with the hull, which tests/apply/test_studio.py needs (frame by frame
+# within 1 deg of the workflow; at 1 x a few silhouette pixels move the angles by 1.2 deg)
+REGRESSION = {"pca_variance": 0.9, "heading": "vector", "kernel_width": "auto", "width_scales": [3.0],
               "max_iter": 500, "tol": 1e-3}  # fmt: skip
 
 
@@ -120,7 +124,12 @@ def test_predict_from_voxels_carries_truth_and_renders(trained, tmp_path):
     np.testing.assert_allclose(prediction.angles, workflow["pred_mvrvm"], atol=1e-9)
     np.testing.assert_array_equal(prediction.true_angles, workflow["true"])
     assert prediction.fps == 30.0 and meta["source"] == {"voxels": str(d / f"vox_{TEST}.h5")}
-    np.testing.assert_array_equal(skeleton.offsets, load_model(d / "model.h5").skeleton.offsets)
+    # the model's output skeleton scaled to the subject's measured height (tests/apply/test_root_fit.py)
+    model_skeleton = load_model(d / "model.h5").skeleton
+    factor = prediction.voxels.h_sub / skeleton_height(model_skeleton)
+    np.testing.assert_allclose(skeleton.offsets, model_skeleton.offsets * factor, rtol=1e-12)
+    np.testing.assert_allclose(skeleton.end_lengths, model_skeleton.end_lengths * factor, rtol=1e-12)
+    assert abs(factor - 1) > 0.01  # the test walk is not the training subjects' size
     # the root is the estimated body's fit to the hull (tests/apply/test_root_fit.py), in the record and the BVH
     fitted = fit_roots(prediction.voxels, prediction.angles, prediction.valid, skeleton)
     np.testing.assert_array_equal(prediction.root, fitted)

@@ -142,6 +142,7 @@ def test_motion_data_contents(tmp_path):
         "dropped_frames": 0,
         "source_frames": 61,
         "source_fps": 60.0,
+        "unmeasured": [],
     }
 
 

@@ -39,3 +39,19 @@ def test_averaging_across_the_wrap_stays_on_the_circle():
 def test_unknown_encoding():
     with pytest.raises(VoxposeError, match="regression.heading"):
         pose_encoding.encode(np.zeros((1, 42)), "quaternion")
+
+
+def test_turn_heading_is_the_root_turned_about_the_vertical():
+    """Independent truth: the root's world rotation premultiplied by Ry(d), read back as Y-X-Z Euler angles."""
+    from voxpose.motion import canon
+    from voxpose.motion.rotations import axis_rotation, euler_to_matrix, matrix_to_euler
+
+    rng = np.random.default_rng(1)
+    angles = rng.uniform(-60, 60, size=(20, 42))
+    turn = rng.uniform(-400, 400, size=20)
+    turned = pose_encoding.turn_heading(angles, turn)
+    root = euler_to_matrix(angles[:, :3], canon.EULER_ORDERS[0])
+    expected = matrix_to_euler(axis_rotation("Y", turn) @ root, canon.EULER_ORDERS[0])
+    d = np.mod(turned[:, :3] - expected + 180.0, 360.0) - 180.0
+    np.testing.assert_allclose(d, 0.0, atol=1e-9)
+    np.testing.assert_array_equal(turned[:, 3:], angles[:, 3:])

@@ -4,7 +4,8 @@ One HDF5 file (layout ``model``, format ``MODEL_FORMAT``) bundles, for one exper
 
 * ``voxels``: the rig-independent carving settings (``l_res_fraction`` of the subject height, ``min_views``,
   ``n_basis`` and the basis seed): new silhouettes are carved exactly as the training ones were (Section 4);
-* ``descriptor``: the 3D shape context parameters (Section 4);
+* ``descriptor``: the 3D shape context parameters (Section 4), with the frame the model was trained in
+  (``frame``: ``world`` or ``body``, ``voxpose.descriptors.body_frame``; files without it are ``world``);
 * group ``feature_model``: the fitted MPPCA (Eq. 5) or K-means transformation (``FeatureModel.to_arrays``);
 * group ``regressor``: the pose PCA (Eq. 1) and the MVRVM (Section 3):
   ``voxpose.regression.stored.regressor_arrays``, the same arrays

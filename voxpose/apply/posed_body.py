@@ -36,6 +36,13 @@ def skeleton_height(skeleton: OutputSkeleton) -> float:
     return standing_height(positions, ends)
 
 
+def subject_skeleton(skeleton: OutputSkeleton, height: float) -> OutputSkeleton:
+    """``skeleton`` scaled to a subject ``height`` metres tall (``h_sub``, Section 4): the model's output
+    skeleton has its training subjects' size, and a body of the wrong size fits the hull best at a root
+    displaced by about half the difference in height."""
+    return skeleton.scaled(height / skeleton_height(skeleton))
+
+
 def posed_body(angles, skeleton: OutputSkeleton, root=None) -> Ellipsoids:
     """The solids (F, 16) of y' (F, 42) on ``skeleton`` (module docstring), root at ``root`` or the origin."""
     return body_ellipsoids(pose_arrays(angles, skeleton, root))

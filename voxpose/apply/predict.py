@@ -1,11 +1,12 @@
 """A trained model applied to new data: calibrated silhouettes (or carved voxels) -> 42 angles per frame -> BVH.
 
-Every frame goes through the training pipeline unchanged (Sections 4-5 and 3): carving at
-``l_res = h_sub * l_res_fraction`` with the model's ``min_views``, surface and basis voxels with the model's
-``n_basis`` and seed (``voxels.voxelize.voxelize_silhouettes``), 3D shape contexts (``ShapeContextTable``) rounded
-to float32 as the workflow stores them, the feature transformation (Eq. 5), the MVRVM in pose-PCA space and
-the inverse PCA and heading decoding. Given the same silhouettes as the workflow, the estimates are the
-workflow's, number for number.
+Every frame goes through the training pipeline unchanged (Sections 4-5 and 3): carving at ``l_res = h_sub *
+l_res_fraction`` with the model's ``min_views``, surface and basis voxels with the model's ``n_basis`` and seed
+(``voxels.voxelize.voxelize_silhouettes``), 3D shape contexts (``ShapeContextTable``) rounded to float32 as the
+workflow stores them, the feature transformation (Eq. 5), the MVRVM in pose-PCA space and the inverse PCA and
+heading decoding (with body-frame descriptors, in the frame of each hull's reference heading, added back:
+``voxpose.descriptors.body_frame``; the model file's descriptor says which frame). Given the same silhouettes as the
+workflow, the estimates are the workflow's, number for number.
 
 Gaps. A frame whose silhouettes have no common voxel (an empty hull) has no descriptors and gets no
 estimate: it is logged, its ``valid`` flag is false, its CSV row holds ``NaN`` angles, and in the BVH (which
@@ -15,9 +16,10 @@ an obvious non-pose, never an interpolated or repeated estimate.
 
 Root position. The regressor estimates joint angles only (Section 2). So that the skeleton moves with the
 subject, the BVH root is put where the body model posed by the estimated angles (after smoothing) on the
-model's output skeleton best overlaps each frame's visual hull (``voxpose.apply.root_fit``; not the hull's
-centroid, which a dress or raised arms move), in world metres: minus the re-centring ``shifts`` of synthetic
-voxel files.
+model's output skeleton, scaled to the subject's measured height ``h_sub`` (``posed_body.subject_skeleton``),
+best overlaps each frame's visual hull (``voxpose.apply.root_fit``; not the hull's centroid, which a dress or
+raised arms move), in world metres: minus the re-centring ``shifts`` of synthetic voxel files. The BVH is
+written on that scaled skeleton, so its feet reach the floor whatever the subject's size.
 
 Temporal smoothing (``smooth`` > 0; off by default, the paper estimates every frame independently): each
 angle, unwrapped over time, is convolved with a Gaussian of standard deviation ``smooth`` frames
@@ -32,12 +34,14 @@ import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
 from voxpose.apply.model_file import PoseModel
+from voxpose.apply.posed_body import subject_skeleton
 from voxpose.apply.root_fit import fit_roots
 from voxpose.descriptors.sequence import describe_sequence
 from voxpose.descriptors.settings import DescriptorSettings
 from voxpose.errors import VoxposeError
 from voxpose.evaluation import metrics
 from voxpose.motion import canon
+from voxpose.motion.output_skeleton import OutputSkeleton
 from voxpose.motion.rotations import unwrap_degrees
 from voxpose.regression import pose_encoding
 from voxpose.voxels.sequence import VoxelSequence
@@ -61,6 +65,7 @@ class Prediction:
     true_angles : (F, 42) ground truth when the input carries it, else None.
     smooth : the temporal smoothing applied (Gaussian sigma in frames; 0: none).
     novelty : how far the input lies from the training data (features/novelty.py), None without a range.
+    skeleton : the output skeleton scaled to the subject (module docstring), None when not known.
     """
 
     angles: np.ndarray
@@ -72,6 +77,7 @@ class Prediction:
     true_angles: np.ndarray | None = None
     smooth: float = 0.0
     novelty: dict | None = None
+    skeleton: OutputSkeleton | None = None
 
     def world_root(self) -> np.ndarray:
         """(F, 3) root positions in the recording's world frame: the voxel frame minus the ``shifts``."""
@@ -103,10 +109,12 @@ def check_voxels(model: PoseModel, seq: VoxelSequence, meta: dict, path) -> None
                            f"{model.voxels['n_basis']}")  # fmt: skip
 
 
-def describe(model: PoseModel, seq: VoxelSequence) -> list:
-    """3D shape contexts (B_f, bins) of every frame (empty for gaps), float32-rounded like the workflow's files."""
+def describe(model: PoseModel, seq: VoxelSequence) -> tuple[list, np.ndarray]:
+    """3D shape contexts (B_f, bins) of every frame (empty for gaps), float32-rounded like the workflow's files,
+    in the frame the model was trained with, and (F,) the frames' reference headings (0 in the world frame)."""
     settings = DescriptorSettings.from_config(model.descriptor, "model descriptor")
-    return [d.astype(np.float32).astype(np.float64) for d in describe_sequence(seq, settings)]
+    descriptors, h0 = describe_sequence(seq, settings, n_basis=model.voxels["n_basis"])
+    return [d.astype(np.float32).astype(np.float64) for d in descriptors], h0
 
 
 def featurise(model: PoseModel, descriptors: list) -> tuple[np.ndarray, np.ndarray]:
@@ -114,12 +122,14 @@ def featurise(model: PoseModel, descriptors: list) -> tuple[np.ndarray, np.ndarr
     return model.features.transform_frames(descriptors)
 
 
-def regress(model: PoseModel, features: np.ndarray, valid: np.ndarray) -> np.ndarray:
-    """Angles (F, 42) degrees from features, NaN rows where ``valid`` is false (Sections 2-3)."""
+def regress(model: PoseModel, features: np.ndarray, valid: np.ndarray, h0: np.ndarray) -> np.ndarray:
+    """Angles (F, 42) degrees from features, NaN rows where ``valid`` is false (Sections 2-3), the heading
+    relative to the reference headings ``h0`` (F,) turned back (``descriptors.body_frame``; 0: world frame)."""
     angles = np.full((len(features), canon.N_ANGLES), np.nan)
     if valid.any():
         coords = model.mvrvm.predict(features[valid])
-        angles[valid] = pose_encoding.decode(model.pca.inverse_transform(coords), model.heading)
+        relative = pose_encoding.decode(model.pca.inverse_transform(coords), model.heading)
+        angles[valid] = pose_encoding.turn_heading(relative, h0[valid])
     return angles
 
 
@@ -141,7 +151,7 @@ def predict_voxels(model: PoseModel, seq: VoxelSequence, *, frames=None, fps=Non
     when it lies far outside the training data."""
     if smooth < 0:
         raise VoxposeError(f"predict: smoothing must be >= 0 frames, got {smooth}")
-    descriptors = describe(model, seq)
+    descriptors, h0 = describe(model, seq)
     features, counts = featurise(model, descriptors)
     novelty = model.features.novelty(name, descriptors)[1]
     valid = counts > 0
@@ -151,14 +161,15 @@ def predict_voxels(model: PoseModel, seq: VoxelSequence, *, frames=None, fps=Non
     if gaps.size:
         log.warning("predict: %d of %d frames have an empty hull and no estimate (gaps): %s", gaps.size,
                     len(valid), gaps.tolist())  # fmt: skip
-    angles = smooth_angles(regress(model, features, valid), valid, smooth)
+    angles = smooth_angles(regress(model, features, valid, h0), valid, smooth)
     frames = np.arange(seq.n_frames) if frames is None else np.asarray(frames)
     if true_angles is not None and np.shape(true_angles) != angles.shape:
         raise VoxposeError(f"predict: true angles have shape {np.shape(true_angles)}, expected {angles.shape}")
-    root = fit_roots(seq, angles, valid, model.skeleton, name=name)
+    skeleton = subject_skeleton(model.skeleton, seq.h_sub)
+    root = fit_roots(seq, angles, valid, skeleton, name=name)
     return Prediction(angles=angles, valid=valid, root=root, voxels=seq, frames=frames,
                       fps=float(fps or model.fps), true_angles=true_angles, smooth=float(smooth),
-                      novelty=novelty)  # fmt: skip
+                      novelty=novelty, skeleton=skeleton)  # fmt: skip
 
 
 def bvh_channels(prediction: Prediction) -> tuple[np.ndarray, np.ndarray]:

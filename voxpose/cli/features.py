@@ -17,7 +17,7 @@ def add_arguments(p):
 
 
 def run(args):
-    from voxpose.descriptors.file import read_descriptors
+    from voxpose.descriptors.file import read_descriptors, read_reference_heading
     from voxpose.features.model import FeatureModel
     from voxpose.io.hdf5 import write_per_motion
 
@@ -27,6 +27,9 @@ def run(args):
         frames, _, meta = read_descriptors(path)
         features, counts = model.transform_frames(frames)
         motions[meta["motion"]] = {"features": features, "counts": counts}
+        h0 = read_reference_heading(path)
+        if h0 is not None:  # body-frame descriptors: the regressor works relative to it (descriptors.body_frame)
+            motions[meta["motion"]]["reference_heading"] = h0
         scores, novelty[meta["motion"]] = model.novelty(meta["motion"], frames)
         if scores is not None:
             motions[meta["motion"]]["novelty"] = scores

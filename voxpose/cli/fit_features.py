@@ -16,13 +16,11 @@ def add_arguments(p):
 
 
 def run(args):
-    import numpy as np
-
-    from voxpose.descriptors.file import read_descriptors
     from voxpose.features.model import FeatureModel
+    from voxpose.features.training_set import read_training_set
 
     params = parse_params(args.params, schema=section("features"))
-    frames = [d for path in args.descriptors for d in read_descriptors(path)[0]]
-    rows = np.concatenate([d for d in frames if len(d)])
-    model = FeatureModel.fit(args.method, rows, params, args.seed).with_novelty_range(frames)
+    training = read_training_set(args.descriptors, params.get("fit_subsample"), args.seed)
+    model = FeatureModel.fit_rows(args.method, training.rows, training.n_rows, params, args.seed)
+    model = model.with_novelty_range(training.frames)
     model.save(args.output)

@@ -17,13 +17,16 @@ def add_arguments(p):
 
 
 def run(args):
-    from voxpose.descriptors.file import read_contours
-    from voxpose.features.silhouette import fit_codebook
+    from voxpose.descriptors.file import contour_layout, read_contours
+    from voxpose.features.silhouette import ContourSource, fit_codebook
 
     params = parse_params(args.params, schema=section("claims", "at"))
     cameras = parse_json(args.cameras, "--cameras")
     if cameras != "all" and not (isinstance(cameras, list) and all(type(c) is int and c >= 0 for c in cameras)):
         raise VoxposeError(f'--cameras: expected "all" or a list of camera indices, got {args.cameras}')
-    training = [(c, o, meta["n_cameras"]) for c, o, meta in map(read_contours, args.contexts)]
+    training = []
+    for path in args.contexts:
+        offsets, meta = contour_layout(path)
+        training.append(ContourSource(offsets, meta["n_cameras"], lambda path=path: read_contours(path)[0]))
     model = fit_codebook(training, cameras, params, args.seed)
     model.save(args.output)

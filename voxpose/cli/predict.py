@@ -75,7 +75,7 @@ def run(args):
     prediction = predict_voxels(model, seq, frames=frames, fps=fps, true_angles=true_angles, smooth=args.smooth,
                                 name=str(args.silhouettes or args.voxels))  # fmt: skip
     meta = {"model": str(args.model), "source": source, "novelty": prediction.novelty}
-    write_outputs(prediction, model.skeleton, out, csv_path, record_path, meta)
+    write_outputs(prediction, prediction.skeleton, out, csv_path, record_path, meta)
     n_gaps = int((~prediction.valid).sum())
     log.info("predict: %d frames (%d gaps) -> %s, %s, %s", len(prediction.valid), n_gaps, out, csv_path,
              record_path)  # fmt: skip

@@ -2,27 +2,43 @@
 
 One path for the workflow (``voxpose describe``) and for a trained model on new data (``voxpose.apply.predict``).
 A frame whose hull is empty is a gap: it gets no descriptors (a (0, bins) array), never invented ones.
+With ``frame: body`` each frame is described in the frame of its hull's reference heading
+(``voxpose.descriptors.body_frame``), which is returned with the descriptors; in the world frame it is 0.
 """
 
 import numpy as np
 
+from voxpose.descriptors.body_frame import body_voxels, reference_heading
 from voxpose.descriptors.lut import ShapeContextTable
 from voxpose.descriptors.settings import DescriptorSettings
+from voxpose.errors import VoxposeError
 from voxpose.voxels.sequence import VoxelSequence
 
 
-def describe_sequence(seq: VoxelSequence, settings: DescriptorSettings, *, threads: int = 1) -> list[np.ndarray]:
-    """(B_f, bins) float64 descriptors of every frame f (Section 4), with the subject height in voxels
-    ``h_sub / l_res`` of the sequence."""
+def describe_sequence(
+    seq: VoxelSequence, settings: DescriptorSettings, *, n_basis: int | None = None, threads: int = 1
+):
+    """``(descriptors, h0)``: (B_f, bins) float64 descriptors of every frame f (Section 4), with the subject
+    height in voxels ``h_sub / l_res`` of the sequence, and (F,) the reference headings in degrees (0 in the
+    world frame and at gaps). In the body frame the basis voxels are drawn again on the turned grid, about
+    ``n_basis`` of them (the carving's setting); the world frame uses the sequence's own."""
+    if settings.frame == "body" and n_basis is None:
+        raise VoxposeError("describe: body-frame descriptors need the carving's n_basis")
     table = ShapeContextTable(seq.h_sub / seq.l_res, **settings.as_dict())
     out = [np.zeros((0, table.n_bins)) for _ in range(seq.n_frames)]
+    h0 = np.zeros(seq.n_frames)
     carved = np.flatnonzero(~seq.empty)
 
     def pairs():
         for f in carved:
             ijk, surface, basis = seq.frame(f)
-            yield ijk[surface], ijk[basis]
+            if settings.frame == "world":
+                yield ijk[surface], ijk[basis]
+                continue
+            h0[f], pivot = reference_heading(ijk, seq.h_sub / seq.l_res)
+            body, body_surface, body_basis = body_voxels(ijk, n_basis, h0[f], pivot)
+            yield body[body_surface], body_basis
 
     for f, desc in zip(carved, table.describe_frames(pairs(), threads=threads), strict=True):
         out[f] = desc
-    return out
+    return out, h0

@@ -9,6 +9,8 @@ from dataclasses import asdict, dataclass, fields
 
 from voxpose.errors import VoxposeError
 
+FRAMES = ("world", "body")
+
 
 @dataclass(frozen=True)
 class DescriptorSettings:
@@ -19,6 +21,9 @@ class DescriptorSettings:
     r_max : ``R_max`` as a fraction of ``h_sub`` (the paper: 1/3).
     soft : soft voting with votes weighted by ``1 / cbrt(bin volume)`` (the paper) or hard voting.
     normalise : divide each descriptor by its sum (not in the paper).
+    frame : ``world`` (the paper: bins aligned with the world's axes) or ``body`` (each frame described in the
+        frame of its own hull's reference heading, ``voxpose.descriptors.body_frame``); applied by
+        ``voxpose.descriptors.sequence.describe_sequence``, the one path of the workflow and of a model file.
     """
 
     n_r: int = 4
@@ -28,6 +33,11 @@ class DescriptorSettings:
     r_max: float = 1 / 3
     soft: bool = True
     normalise: bool = False
+    frame: str = "world"
+
+    def __post_init__(self):
+        if self.frame not in FRAMES:
+            raise VoxposeError(f"descriptor: frame must be one of {', '.join(FRAMES)}, got {self.frame!r}")
 
     @classmethod
     def from_config(cls, cfg: dict, what: str = "descriptor") -> "DescriptorSettings":
@@ -45,7 +55,8 @@ class DescriptorSettings:
         """Readable directory name of the parameter set, e.g. ``R0.3333-r2-4x5x10-soft``."""
         tag = f"R{tag_number(self.r_max)}-r{tag_number(self.r_min)}-{self.n_r}x{self.n_e}x{self.n_a}"
         tag += "-soft" if self.soft else "-hard"
-        return tag + ("-norm" if self.normalise else "")
+        tag += "-norm" if self.normalise else ""
+        return tag + ("-body" if self.frame == "body" else "")
 
 
 def tag_number(x) -> str:

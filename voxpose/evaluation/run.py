@@ -1,11 +1,13 @@
 """One experiment's regression (Sections 2, 3, 6): pose PCA, kernel width, MVRVM, baselines, predictions, errors.
 
-Training rows are the frames of the training motions that have a feature vector (frames with an empty hull
-are gaps and are skipped); test frames with a gap get no prediction (NaN) and are left out of the errors,
-which are reported with the number of frames they cover. The MVRVM regresses the M-dimensional PCA pose
-coordinates (Eq. 1) of the encoded pose (``voxpose.regression.pose_encoding``: the body heading as a point on a circle
-by default) and predictions are mapped back to the 42 angles, where Eq. 6 is evaluated. The kernel
-width is chosen on held-out training motions (whole motions held out), never on test motions.
+With body-frame descriptors every method regresses the heading relative to each frame's reference heading
+(``voxpose.descriptors.body_frame``), which is added back to its estimates. Training rows are the frames of the
+training motions that have a feature vector (frames with an empty hull are gaps and are skipped); test frames with a
+gap get no prediction (NaN) and are left out of the errors, which are reported with the number of frames they cover.
+The MVRVM regresses the M-dimensional PCA pose coordinates (Eq. 1) of the encoded pose
+(``voxpose.regression.pose_encoding``: the body heading as a point on a circle by default) and predictions are
+mapped back to the 42 angles, where Eq. 6 is evaluated. The kernel width is chosen on held-out training motions
+(whole motions held out), never on test motions.
 
 Reference baselines in the same evaluation show what the sparse Bayesian regressor buys: the mean training
 pose, the nearest training frame in feature space, and kernel ridge regression with the MVRVM's kernel.
@@ -54,6 +56,13 @@ def thin_frames(valid: list, max_frames: int | None) -> list:
     return out
 
 
+def reference_heading(entry: dict) -> np.ndarray:
+    """(F,) a motion's reference headings in degrees: those of body-frame descriptors (the regressor learns the
+    heading relative to them, ``voxpose.descriptors.body_frame``), zeros in the world frame."""
+    h0 = entry.get("reference_heading")
+    return np.zeros(len(entry["counts"])) if h0 is None else np.asarray(h0, dtype=float)
+
+
 def _rows(features: dict, motions: dict, names, max_frames: int | None = None):
     xs, ys, groups = [], [], []
     for name in names:
@@ -62,7 +71,7 @@ def _rows(features: dict, motions: dict, names, max_frames: int | None = None):
     masks = thin_frames([features[name]["counts"] > 0 for name in names], max_frames)
     for g, (name, valid) in enumerate(zip(names, masks, strict=True)):
         xs.append(features[name]["features"][valid])
-        ys.append(motions[name].angles[valid])
+        ys.append(pose_encoding.turn_heading(motions[name].angles[valid], -reference_heading(features[name])[valid]))
         groups.append(np.full(int(valid.sum()), g))
     return np.concatenate(xs), np.concatenate(ys), np.concatenate(groups)
 
@@ -102,10 +111,11 @@ def evaluate(predict: dict, features: dict, motions: dict, test: list):
         motion = motions[name]
         valid = features[name]["counts"] > 0
         x = features[name]["features"][valid]
+        h0 = reference_heading(features[name])[valid]
         entry = {"true": motion.angles, "valid": valid, "offsets": motion.offsets,
                  "root_positions": motion.positions[:, 0]}  # fmt: skip
         for method, fn in predict.items():
-            pred = fn(x)
+            pred = pose_encoding.turn_heading(fn(x), h0)
             full = np.full_like(motion.angles, np.nan)
             full[valid] = pred
             entry[f"pred_{method}"] = full

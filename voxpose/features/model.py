@@ -22,12 +22,19 @@ log = logging.getLogger(__name__)
 METHODS = ("mppca", "kmeans")
 
 
+def subsample_indices(n_rows: int, n: int | None, seed: int) -> np.ndarray:
+    """Sorted indices of ``n`` of ``n_rows`` rows drawn without replacement (seeded); all if ``n`` is None."""
+    if n is None or n >= n_rows:
+        return np.arange(n_rows)
+    rng = np.random.default_rng([seed, 5])
+    return np.sort(rng.choice(n_rows, size=n, replace=False))
+
+
 def subsample(descriptors: np.ndarray, n: int | None, seed: int) -> np.ndarray:
     """``n`` rows drawn without replacement (seeded), in their original order; all rows if ``n`` is None."""
     if n is None or n >= len(descriptors):
         return descriptors
-    rng = np.random.default_rng([seed, 5])
-    return descriptors[np.sort(rng.choice(len(descriptors), size=n, replace=False))]
+    return descriptors[subsample_indices(len(descriptors), n, seed)]
 
 
 class FeatureModel:
@@ -39,22 +46,27 @@ class FeatureModel:
     @classmethod
     def fit(cls, method: str, descriptors: np.ndarray, cfg: dict, seed: int) -> "FeatureModel":
         """Fit on the rows of ``descriptors`` (N, d) with the config's ``features`` section ``cfg``."""
+        rows = subsample(descriptors, cfg.get("fit_subsample"), seed)
+        return cls.fit_rows(method, rows, len(descriptors), cfg, seed)
+
+    @classmethod
+    def fit_rows(cls, method: str, rows: np.ndarray, n_train: int, cfg: dict, seed: int) -> "FeatureModel":
+        """Fit on ``rows`` already drawn from a training set of ``n_train`` descriptors (``training_set``)."""
         if method not in METHODS:
             raise VoxposeError(f"unknown feature method {method!r}: expected one of {', '.join(METHODS)}")
-        rows = subsample(descriptors, cfg.get("fit_subsample"), seed)
         log.info(
             "%s: fitting K=%d on %d of %d descriptors",
             method,
             cfg["n_components"],
             len(rows),
-            len(descriptors),
+            n_train,
         )
         meta = {
             "method": method,
             "params": cfg,
             "seed": seed,
             "n_fit": len(rows),
-            "n_train": len(descriptors),
+            "n_train": n_train,
         }
         if method == "mppca":
             model = MPPCA(

@@ -29,6 +29,45 @@ consistent across rigs; here it is zero by construction, and each limb angle tri
 direction of its segment. The spine's bending between pelvis and neck is likewise summarised by the two
 frames.
 
+Ends (issue 18 item 2). The wrist, ankle and neck angles point at the hand tips, toes and head top, the points
+where skeleton families differ most (``joint_map``). Measured with ``benchmarks/end_angles.py`` (bend = degrees
+between the end's segment and its parent's T-pose direction; Euler X of the ankle = flexion, of the neck = pitch):
+
+======================  ======================  =======================  =======================
+family (files)          wrist bend, all frames  ankle X, all frames      neck bend, all frames
+                        mean (sd) / at rest     mean (sd) / at rest      mean (sd) / at rest
+======================  ======================  =======================  =======================
+CMU (17)                27.7 (8.5) / 0.0        -3.5 (13.6) / 9.0        8.6 (6.9) / 2.8
+Bandai (64)             21.8 (15.4) / 0.0       24.8 (15.0) / 90 *       13.5 (10.9) / 0.6
+ReActIdle (4)           0.0 (0.0) / 0.0         17.5 (4.3) / 22.9        29.7 (4.2) / 8.9
+generated (10)          15.2 (5.1) / 0.0        15.3 (9.2) / 18.9        2.6 (3.3) / 0.0
+======================  ======================  =======================  =======================
+
+(left side; * Bandai's zero pose lays every bone along its local X, the foot in line with the shin). Every
+family's rest hand is straight: CMU's index-finger End Site lies on the forearm's axis at rest (and in its
+reference frame), so CMU's 28-29 degree wrist bends are recorded hand rotation (its ``LeftFingerBase`` channels,
+mean Z 15.5, Y -23.1 degrees in ``walk_cmu_07_01``), not rest geometry; Bandai records its hands too. A family
+that records no hand rotation (ReActIdle has no hand joints; the lab family of issue 18 has hand joints whose
+channels are all zero) has straight wrists in every frame: that difference is missing data, which no definition
+of the angles can restore; ``load`` flags such wrists (``source["unmeasured"]``, ``neutral_ends.unmeasured_wrists``).
+What a definition must handle is a hand end at another point of the hand, e.g. a knuckle off the hand's axis:
+the hand tips are therefore normalised to the rest pose's straight hand (``voxpose.motion.neutral_ends``), which
+changes no shared family (their rest hands are straight) and makes a knuckle-ended rig agree with the generated
+one within 1 degree instead of 19-20 (tests/motion/test_neutral_ends.py).
+
+The head top and the toes keep their mapped points. A rest correction needs a rest pose whose end is neutral,
+and is not invariant to how a rig lays its bone frames: correcting the head to the trunk's rest direction turned
+``walk_cmu_07_01``'s neck angles by up to 1.2 degrees once its bones were re-laid along their local X
+(tests/motion/test_canonical_pose.py), because CMU's rest head leans 2.8 degrees (1.2-7.0 over the files) off
+its root -> neck line and the re-laid rest does not. For the feet, Bandai's zero pose has no neutral foot at all,
+and correcting CMU's (9-10 degrees at rest) would move its ankle mean to about -12.5, further from Bandai's 24.8.
+Nor is the ankle gap in where the toe end lies: towards the ball of the foot (the toe joint, which CMU, Bandai and
+the generated rig place at the same anatomical point) the walking ankle flexion averages 3.7 (CMU), 33.4 (Bandai)
+and 21.5 (generated) degrees, towards the mapped toe -3.2, 26.6 and 15.1: the ~30 degree CMU-Bandai difference is
+in the recorded feet. The rest knees are straight (0.0 degrees) on all four families measured; the lab family of
+issue 18 (6-10 degree rest knees) is not among the shared files, and a rest correction of its knees would depend
+on its bone frames as the head's does (re-laid along local axes, any rest knee is straight).
+
 Offsets: the subject's skeleton in its own canonical frames, the median over frames of
 ``R_p^T (pos_j - pos_p)`` (root row zero), so that forward kinematics of y' (``voxpose.motion.pose_kinematics``)
 gives back the joint positions relative to the root. Limb offsets are exact (rigid segments along

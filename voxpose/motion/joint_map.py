@@ -25,7 +25,9 @@ the wrist, maps ``lwrist: forearm.L/end``. The point moves rigidly with ``<joint
 ``<joint>``'s, its incoming bone the End Site offset), so an end estimated from it continues that bone:
 with no hand the hand tip continues the forearm, and the wrist angles are those of a straight wrist.
 The canonical angles are measured towards the mapped points and ends (``canonical_pose``), so the map
-defines them: a wrist angle points the wrist frame at the mapped hand tip, a neck angle at the head top.
+defines them: a wrist angle points the wrist frame at the mapped hand tip, a neck angle at the head top. The
+hand tips are then turned, with their joints, onto the rest pose's straight hand (``neutral_ends``), so a
+hand end off the hand's axis (a knuckle) does not read as a bent wrist.
 
 An end named as source joint ``N`` is ``N``'s End Site. When ``N`` has no End Site or a zero-length one,
 or no ``N`` is given (then ``N`` is the end's anchor: the neck for the head top, the wrist for a hand
@@ -54,6 +56,7 @@ from voxpose.errors import VoxposeError
 from voxpose.io.bvh import Bvh, BvhJoint
 from voxpose.motion import canon
 from voxpose.motion.bvh_kinematics import forward_kinematics, rest_pose
+from voxpose.motion.neutral_ends import neutral_ends, rest_corrections
 
 # end: (anchor joint, proportion, segment the proportion applies to: "leg" or a (from, to) joint pair)
 _END_RULES = {
@@ -248,10 +251,11 @@ def _median_distance(positions: np.ndarray, a: int, b: int) -> float:
     return float(np.median(np.linalg.norm(positions[:, a] - positions[:, b], axis=-1)))
 
 
-def _end_plan(bvh: Bvh, jmap: JointMap, positions: np.ndarray) -> list[tuple[int, np.ndarray | None]]:
+def _end_plan(bvh: Bvh, jmap: JointMap, positions: np.ndarray, rest: np.ndarray) -> list[tuple[int, np.ndarray | None]]:
     """For each end: (source joint N, None to use its End Site, or the local vector u * l to add to N).
 
-    Lengths are medians over the frames of world distances, so they do not depend on the rest pose.
+    ``rest`` (J, 3) holds the joint positions of the rest pose. Lengths are medians over the frames of world
+    distances, so they do not depend on the rest pose.
     """
     joint_idx = _indices(bvh, jmap.joints)
     canonical = {name: joint_idx[i] for name, i in canon.INDEX.items()}
@@ -269,7 +273,6 @@ def _end_plan(bvh: Bvh, jmap: JointMap, positions: np.ndarray) -> list[tuple[int
         if n_idx is None or n_idx == a_idx:
             n_idx = a_idx
             if end.endswith("toe"):
-                rest = forward_kinematics(rest_pose(bvh))[0][0]
                 direction = _rest_forward(rest[joint_idx])
             else:
                 direction = _incoming_direction(bvh, n_idx)
@@ -281,20 +284,31 @@ def _end_plan(bvh: Bvh, jmap: JointMap, positions: np.ndarray) -> list[tuple[int
     return plan
 
 
+def _end_points(fk: tuple, plan: list) -> np.ndarray:
+    """The ends (F, 5, 3) of forward kinematics ``fk`` placed by ``plan`` (``_end_plan``)."""
+    positions, rotations, end_sites = fk
+    ends = np.empty((positions.shape[0], len(canon.ENDS), 3))
+    for e, (n_idx, local) in enumerate(plan):
+        ends[:, e] = end_sites[n_idx] if local is None else positions[:, n_idx] + rotations[:, n_idx] @ local
+    return ends
+
+
 def skeleton_points(bvh: Bvh, jmap: JointMap, fk=None) -> tuple[np.ndarray, np.ndarray]:
     """World positions of the 14 canonical joints (F, 14, 3) and 5 ends (F, 5, 3), file units.
 
-    ``fk`` is ``kinematics.forward_kinematics(bvh)`` when already computed.
+    ``fk`` is ``kinematics.forward_kinematics(bvh)`` when already computed. The hand tips and the head top are
+    normalised to the rest pose's neutral directions (``voxpose.motion.neutral_ends``).
     """
-    bvh, fk = _with_end_site_points(bvh, jmap, forward_kinematics(bvh) if fk is None else fk)
-    positions, rotations, end_sites = fk
-    joints = positions[:, _indices(bvh, jmap.joints)]
-    ends = np.empty((positions.shape[0], len(canon.ENDS), 3))
+    source = bvh
+    bvh, fk = _with_end_site_points(source, jmap, forward_kinematics(source) if fk is None else fk)
+    _, rest_fk = _with_end_site_points(source, jmap, forward_kinematics(rest_pose(source)))
+    positions, rotations, _ = fk
+    joint_idx = _indices(bvh, jmap.joints)
+    joints = positions[:, joint_idx]
     if positions.shape[0] == 0:
-        return joints, ends
-    for e, (n_idx, local) in enumerate(_end_plan(bvh, jmap, positions)):
-        if local is None:
-            ends[:, e] = end_sites[n_idx]
-        else:
-            ends[:, e] = positions[:, n_idx] + rotations[:, n_idx] @ local
-    return joints, ends
+        return joints, np.empty((0, len(canon.ENDS), 3))
+    plan = _end_plan(bvh, jmap, positions, rest_fk[0][0])
+    ends = _end_points(fk, plan)
+    corrections = rest_corrections(rest_fk[0][0, joint_idx], _end_points(rest_fk, plan)[0])
+    carriers = rotations[:, [n_idx for n_idx, _ in plan]]
+    return joints, neutral_ends(joints, ends, carriers, corrections)

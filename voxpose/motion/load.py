@@ -30,6 +30,9 @@ first frame over the whole duration; an integer ratio of frame rates (CMU 120 ->
 frame exactly. A frame time printed with few digits (0.0083333) is read as the whole frame rate it rounds
 to (120) when within 0.01%. Canonical rotations and angles are then computed from the resampled positions.
 
+Unmeasured wrists. A file whose hand tips lie on the forearms' axes in every frame records no hand rotation;
+its wrists are logged with a warning and listed in ``source["unmeasured"]`` (``neutral_ends.unmeasured_wrists``).
+
 World frame. Both shared families are Y up (and so is the generated set); a source with another up
 axis would need a rotation from the config, which is not supported yet.
 """
@@ -47,6 +50,7 @@ from voxpose.motion.bvh_kinematics import forward_kinematics
 from voxpose.motion.canonical_pose import canonical_pose
 from voxpose.motion.data import MotionData, kind_of
 from voxpose.motion.joint_map import resolve_joint_map, skeleton_points
+from voxpose.motion.neutral_ends import unmeasured_wrists
 from voxpose.motion.reference_pose import leading_reference_frames
 
 log = logging.getLogger(__name__)
@@ -155,6 +159,14 @@ def load_motion(path, *, fps=30.0, unit_scale=None, joint_map=None, drop_referen
     joints = resample(joints * scale, source_fps, float(fps))
     ends = resample(ends * scale, source_fps, float(fps))
     pose = canonical_pose(joints, ends)
+    unmeasured = unmeasured_wrists(joints, ends)
+    if unmeasured:
+        log.warning(
+            "%s: the hand tips lie on the forearms' axes in every frame (%s): the file records no hand rotation, "
+            "so these wrist angles are a straight hand, not a measurement",
+            path.stem,
+            ", ".join(unmeasured),
+        )
     return MotionData(
         name=path.stem,
         kind=kind_of(path.stem),
@@ -173,5 +185,6 @@ def load_motion(path, *, fps=30.0, unit_scale=None, joint_map=None, drop_referen
             "dropped_frames": dropped,
             "source_frames": bvh.n_frames,
             "source_fps": source_fps,
+            "unmeasured": unmeasured,
         },
     )

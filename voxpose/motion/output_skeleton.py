@@ -88,6 +88,12 @@ class OutputSkeleton:
         lengths = np.median([_end_lengths(m) for m in motions], axis=0)
         return cls(*_symmetric(offsets, lengths))
 
+    def scaled(self, factor: float) -> "OutputSkeleton":
+        """The same skeleton ``factor`` times as large (offsets and end lengths): another subject's size."""
+        if not (np.isfinite(factor) and factor > 0):
+            raise VoxposeError(f"output skeleton: scale factor must be positive, got {factor!r}")
+        return OutputSkeleton(self.offsets * factor, np.asarray(self.end_lengths, float) * factor)
+
     def bvh(self, angles, root_positions, frame_time: float) -> Bvh:
         """A BVH of y' (F, 42) degrees with the root at ``root_positions`` (F, 3) metres."""
         angles = np.asarray(angles, dtype=float)

@@ -47,3 +47,14 @@ def decode(targets, heading: str = "vector") -> np.ndarray:
         return targets.copy()
     h = np.rad2deg(np.arctan2(targets[:, 1], targets[:, 0]))
     return np.insert(targets[:, 2:], HEADING, h, axis=1)
+
+
+def turn_heading(angles, degrees) -> np.ndarray:
+    """y' (N, 42) with ``degrees`` (a number or (N,)) added to the heading, every other angle as it is: the
+    pose seen from a frame turned by ``-degrees`` about the vertical (the root's Euler order is Y-X-Z, so
+    ``Ry(d) Ry(a0) Rx(a1) Rz(a2)`` only moves ``a0``). Body-frame descriptors (``descriptors.body_frame``)
+    regress the heading relative to the reference heading ``h0``: ``turn_heading(y, -h0)``; estimates
+    go back with ``turn_heading(y_hat, h0)``."""
+    out = np.array(angles, dtype=float)
+    out[:, HEADING] += degrees
+    return out

@@ -47,7 +47,7 @@ rule fit_silhouette_features:  # lint: no conda/container, see Snakefile
         "results/logs/fit_silhouette_features/{train}/{rig}/{desc}/{feat}.log",
     threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
     resources:  # measured: 111-143 MB, 1.1-1.4 s CPU on 11-22 MB
-        mem_mb=by_input(300, 6),
+        mem_mb=by_input(500, 0.2),  # one motion's contexts at a time (profiles/README.md)
         runtime=by_input(5, 0.02),
     shell:
         "voxpose fit-silhouette-features --params {params.cfg} --cameras {params.cameras} --seed {params.seed}"

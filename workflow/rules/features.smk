@@ -19,7 +19,7 @@ rule fit_features:  # lint: no conda/container, see Snakefile
         "results/logs/fit_features/{train}/{rig}/{desc}/{feat}.log",
     threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
     resources:
-        mem_mb=by_input(1000, 8),
+        mem_mb=by_input(1000, 1),  # one descriptor file at a time (profiles/README.md)
         runtime=by_input(60, 0.2),
     shell:
         "voxpose fit-features --method {params.method} --params {params.cfg} --seed {params.seed}"

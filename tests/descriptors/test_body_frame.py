@@ -1,0 +1,112 @@
+"""Body-aligned 3D shape contexts (issue 18, item 4): the reference heading turns exactly with the world, the
+resampled grid is the hull's, and descriptors of a hull turned on the grid are the unturned hull's."""
+
+import numpy as np
+import pytest
+
+from voxpose.descriptors.body_frame import BASIS_SEED, body_voxels, reference_heading
+from voxpose.descriptors.lut import ShapeContextTable
+from voxpose.descriptors.sequence import describe_sequence
+from voxpose.descriptors.settings import DescriptorSettings
+from voxpose.errors import VoxposeError
+from voxpose.voxels.sequence import VoxelSequence
+from voxpose.voxels.surface import basis_indices, surface_mask
+
+H_SUB = 60.0
+SMALL = {"n_r": 3, "n_e": 3, "n_a": 8, "r_min": 1.0, "r_max": 1 / 3}
+
+
+def yaw(points, degrees):
+    """Points turned about the vertical through the origin: +Z towards +X (the heading's sense)."""
+    a = np.deg2rad(degrees)
+    rot = np.array([[np.cos(a), 0, np.sin(a)], [0, 1, 0], [-np.sin(a), 0, np.cos(a)]])
+    return np.asarray(points, dtype=float) @ rot.T
+
+
+def trunk(facing: float, semi=(9.0, 5.0)) -> np.ndarray:
+    """Voxels of an elliptic cylinder H_SUB tall, wide (``semi[0]``) across and shallow (``semi[1]``) along the
+    heading ``facing`` (degrees, 0 facing +Z), standing on y = 0, with arms held forward above the trunk band."""
+    axis = np.arange(-12, 13)
+    x, y, z = (c.ravel() for c in np.meshgrid(axis, np.arange(int(H_SUB)), axis, indexing="ij"))
+    a = np.deg2rad(facing)
+    across = x * np.cos(a) - z * np.sin(a)  # along the shoulder line (heading facing + 90)
+    along = x * np.sin(a) + z * np.cos(a)  # along the facing direction
+    inside = (across / semi[0]) ** 2 + (along / semi[1]) ** 2 <= 1
+    arms = (y > 47) & (y < 51) & (np.abs(across) < 8) & (np.abs(across) > 5) & (along > 0) & (along < 11)
+    return np.stack([x, y, z], axis=1)[inside | arms]
+
+
+def test_reference_heading_turns_exactly_with_the_points():
+    rng = np.random.default_rng(3)
+    points = rng.normal(size=(400, 3)) * [6.0, 20.0, 3.0] + [2.0, 30.0, -1.0]
+    h0, pivot = reference_heading(points, H_SUB)
+    for phi in (0.0, 37.5, 90.0, 141.0, 180.0, 233.0, -300.0):
+        axis = np.array([4.0, 0.0, -7.0])  # any vertical axis
+        turned = yaw(points - axis, phi) + axis
+        h1, pivot1 = reference_heading(turned, H_SUB)
+        assert np.mod(h1 - h0 - phi + 180.0, 360.0) - 180.0 == pytest.approx(0.0, abs=1e-9)
+        np.testing.assert_allclose(pivot1, yaw(pivot[None] - axis, phi)[0] + axis, atol=1e-9)
+
+
+@pytest.mark.parametrize("facing", [0.0, 30.0, 72.0, 125.0, 200.0, 301.0])
+def test_reference_heading_of_a_trunk_is_its_facing_direction(facing):
+    """Front and back told apart; the axis within 3 degrees (a 9 x 5 voxel ellipse on the grid)."""
+    h0, _ = reference_heading(trunk(facing), H_SUB)
+    assert np.mod(h0 - facing + 180.0, 360.0) - 180.0 == pytest.approx(0.0, abs=3.0)
+
+
+def test_body_voxels_at_zero_heading_are_the_hull_translated():
+    ijk = trunk(30.0) + [3, 0, -2]
+    body, surface, body_basis = body_voxels(ijk, 30, 0.0, (3.25, 0.0, -1.75))
+    shift = body.min(axis=0) - ijk.min(axis=0)
+    assert {tuple(v) for v in body - shift} == {tuple(v) for v in ijk}
+    np.testing.assert_array_equal(surface, surface_mask(body))
+    np.testing.assert_array_equal(body_basis, body[surface][basis_indices(body[surface], 30, BASIS_SEED)])
+
+
+def test_body_voxels_at_90_degrees_are_the_hull_turned_on_the_grid():
+    ijk = trunk(30.0)
+    body, _, _ = body_voxels(ijk, 30, 90.0, (0.0, 0.0, 0.0))
+    expected = np.rint(yaw(ijk, -90.0)).astype(int)
+    assert {tuple(v) for v in body} == {tuple(v) for v in expected}
+
+
+def sequence(frames) -> VoxelSequence:
+    """A voxel sequence of the given frames (occupied voxels), every 20th surface voxel a basis voxel."""
+    surfaces = [surface_mask(f) for f in frames]
+    bases = [np.flatnonzero(s)[::20] for s in surfaces]
+    return VoxelSequence(l_res=1.0, h_sub=H_SUB, h_sub_frame=0, ijk=np.concatenate(frames).astype(np.int32),
+                         offsets=np.cumsum([0] + [len(f) for f in frames]), surface=np.concatenate(surfaces),
+                         basis=np.concatenate(bases).astype(np.int32),
+                         basis_offsets=np.cumsum([0] + [len(b) for b in bases]),
+                         empty=np.zeros(len(frames), dtype=bool), shifts=np.zeros((len(frames), 3)))  # fmt: skip
+
+
+def test_world_frame_is_the_table_on_the_grid_as_before():
+    ijk = trunk(30.0)
+    seq = sequence([ijk])
+    descriptors, h0 = describe_sequence(seq, DescriptorSettings(**SMALL), n_basis=30)
+    _, surface, basis = seq.frame(0)
+    np.testing.assert_array_equal(descriptors[0], ShapeContextTable(H_SUB, **SMALL).describe(ijk[surface], ijk[basis]))
+    assert np.array_equal(h0, [0.0])
+
+
+def test_body_frame_descriptors_of_a_hull_turned_on_the_grid_are_the_same():
+    """Turned by 90 degrees the hull is the same voxels, its h0 90 degrees further (30 -> 120),
+    and the basis voxels drawn on the turned grid the same: the body-frame descriptors agree, the world-frame
+    ones do not."""
+    ijk = trunk(30.0) + [5, 0, 2]
+    turned = np.rint(yaw(ijk, 90.0)).astype(int)  # exact on the grid
+    seq = sequence([ijk, turned])
+    body, h0 = describe_sequence(seq, DescriptorSettings(**SMALL, frame="body"), n_basis=30)
+    assert h0[1] - h0[0] == pytest.approx(90.0, abs=1e-9)
+    np.testing.assert_allclose(body[1], body[0], rtol=1e-12, atol=1e-12)
+    world, _ = describe_sequence(seq, DescriptorSettings(**SMALL), n_basis=30)
+    assert np.abs(world[1] - world[0]).max() > 0.1
+
+
+def test_frame_is_world_or_body_and_names_the_descriptor_folder():
+    assert DescriptorSettings().tag() == "R0.3333-r2-4x5x10-soft"
+    assert DescriptorSettings(frame="body").tag() == "R0.3333-r2-4x5x10-soft-body"
+    with pytest.raises(VoxposeError, match="frame must be one of world, body"):
+        DescriptorSettings.from_config({"frame": "camera"})

@@ -1,0 +1,57 @@
+"""The training descriptors a feature model is fitted on, read one file at a time (Section 5).
+
+The fit needs ``fit_subsample`` rows drawn from every training descriptor, and the novelty range
+(``features.novelty``) up to ``TRAINING_FRAMES`` whole frames spread over the training set. Neither needs the
+whole set in memory: on the real Table 1 training set (about 1.9 million descriptors of 200 bins) that was
+3 GB in float64, twice over while concatenated, and ``fit-features`` peaked at 6.7 GB. ``read_training_set``
+counts the rows from the files' offsets, draws the row indices exactly as ``model.subsample`` does on the
+concatenated set (they depend on the row count and the seed alone), then reads each file once, keeping only
+the drawn rows and the chosen frames: the same numbers, with one file and the drawn rows in memory.
+"""
+
+from dataclasses import dataclass
+
+import h5py
+import numpy as np
+
+from voxpose.descriptors.file import read_descriptors
+from voxpose.features.model import subsample_indices
+from voxpose.features.novelty import TRAINING_FRAMES, evenly_spaced
+
+
+@dataclass(frozen=True)
+class TrainingSet:
+    """rows: the drawn descriptors (float64, in set order); n_rows: descriptors in the whole set; frames: the
+    novelty range's frames ((B_f, bins) float64, evenly spaced over all ``n_frames`` frames)."""
+
+    rows: np.ndarray
+    n_rows: int
+    frames: list
+    n_frames: int
+
+
+def _sizes(path) -> np.ndarray:
+    """Descriptors per frame of a descriptor file, from its offsets alone (its content is checked when read)."""
+    with h5py.File(path, "r") as f:
+        return np.diff(f["descriptors_offsets"][()])
+
+
+def read_training_set(paths, n: int | None, seed: int, n_frames: int = TRAINING_FRAMES) -> TrainingSet:
+    """The drawn rows (``n`` of them, all when ``n`` is None or larger than the set) and ``n_frames`` evenly
+    spaced frames of the descriptor files ``paths`` taken together in order (module docstring)."""
+    sizes = [_sizes(path) for path in paths]
+    frame_start = np.cumsum([0] + [len(s) for s in sizes])
+    row_start = np.cumsum([0] + [int(s.sum()) for s in sizes])
+    drawn = subsample_indices(int(row_start[-1]), n, seed)
+    chosen = evenly_spaced(int(frame_start[-1]), n_frames)
+    rows, frames = [], []
+    for k, path in enumerate(paths):
+        lo, hi = np.searchsorted(drawn, row_start[k : k + 2])
+        pick_lo, pick_hi = np.searchsorted(chosen, frame_start[k : k + 2])
+        descriptors = read_descriptors(path)[0]  # every file read (and its checksum checked), one at a time
+        if lo < hi:
+            rows.append(np.concatenate([d for d in descriptors if len(d)])[drawn[lo:hi] - row_start[k]])
+        frames.extend(descriptors[i] for i in chosen[pick_lo:pick_hi] - frame_start[k])
+    width = rows[0].shape[1] if rows else 0
+    return TrainingSet(np.concatenate(rows) if rows else np.zeros((0, width)), int(row_start[-1]), frames,
+                       int(frame_start[-1]))  # fmt: skip
