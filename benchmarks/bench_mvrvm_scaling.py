@@ -25,7 +25,8 @@ BLAS thread; ``--select`` with config/config.yaml: scales 0.6/0.8/1, selection_m
 2000, max_iter 2000) on the largest real training set (79 motions, 10,323 frames x 200 MPPCA features -> 12
 pose-PCA outputs): N = 1000, 2000, 5000, 10000: 93.3, 125.0, 120.2, 124.0 CPU s; peak 312, 431, 584, 791 MB;
 735, 1324, 1477, 1679 relevance vectors (73.5, 66.2, 29.5, 16.8 %); none converged (2000 moves); held-out
-RMSE 43.47, 35.19, 32.31, 30.24 (1000 held-out rows; 323 at N = 10000). 20000: no real set is that large; on
+RMSE 43.47, 35.19, 32.31, 30.24 (1000 held-out rows; 323 at N = 10000). N = 10000 again at load average 1.5-3:
+118.4 CPU s, 810 MB, the same 1679 relevance vectors and RMSE. 20000: no real set is that large; on
 the stand-in (``--synthetic 21000``, 8 outputs, the same settings, the selection picks 1x) N = 10000, 20000:
 70.7, 89.8 CPU s; peak 785, 1175 MB; 1524, 1821 relevance vectors; not converged.
 A cProfile of the N = 10000 path (wall-clock shares under the same load; 120.8 CPU s): the width selection
