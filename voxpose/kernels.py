@@ -7,26 +7,28 @@ comparison, or where numba cannot be installed). The variable is read at each ca
 
 Kernels are compiled with ``cache=True`` (the machine code is kept in ``__pycache__`` next to the module, so
 only the first process after an install pays the compilation) and ``nogil=True`` (threads run them in
-parallel).
+parallel). numba itself is imported at the first kernel call, not with voxpose: importing it costs 0.2 - 0.3 s
+of CPU, which processes that run no kernel (or ``VOXPOSE_KERNELS=numpy``) should not pay.
 """
 
 import functools
+import importlib.util
 import os
+import sys
+import threading
 
 from voxpose.errors import VoxposeError
 
 ENV = "VOXPOSE_KERNELS"
 CHOICES = ("numba", "numpy")
+_pending: dict = {}  # module name -> its kernels not compiled yet
+_lock = threading.Lock()
 
 
 @functools.cache
 def numba_available() -> bool:
-    """Whether numba can be imported (once per process)."""
-    try:
-        import numba  # noqa: F401
-    except ImportError:
-        return False
-    return True
+    """Whether numba is installed (found without importing it)."""
+    return importlib.util.find_spec("numba") is not None
 
 
 def use_numba() -> bool:
@@ -38,9 +40,26 @@ def use_numba() -> bool:
 
 
 def jit(fn):
-    """``numba.njit(cache=True, nogil=True)``; the plain function when numba is missing (never called then)."""
-    if not numba_available():
-        return fn
-    import numba
+    """Mark ``fn`` a kernel: at the first call of any kernel of its module, numba is imported and every kernel of
+    the module is replaced by ``numba.njit(cache=True, nogil=True)`` of itself, so that kernels calling each
+    other are compiled together (call kernels as ``module.name``, never by a name imported earlier)."""
+    _pending.setdefault(fn.__module__, []).append(fn)
 
-    return numba.njit(cache=True, nogil=True)(fn)
+    @functools.wraps(fn)
+    def first_call(*args):
+        return getattr(_compile(fn.__module__), fn.__name__)(*args)
+
+    return first_call
+
+
+def _compile(module_name: str):
+    """The module, its kernels replaced by numba dispatchers (compiled, or loaded from the cache, when called)."""
+    module = sys.modules[module_name]
+    with _lock:
+        kernels = _pending.pop(module_name, [])
+        if kernels:
+            import numba
+
+            for fn in kernels:
+                setattr(module, fn.__name__, numba.njit(cache=True, nogil=True)(fn))
+    return module
