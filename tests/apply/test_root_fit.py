@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from tests.helpers import without_frame
+from voxpose import kernels
 from voxpose.apply.posed_body import posed_body
 from voxpose.apply.root_fit import fit_roots, hull_centroids
 from voxpose.io.bvh import write_bvh
@@ -107,3 +108,23 @@ def test_gaps_and_frames_without_estimate_are_nan(carved, caplog):
     assert lines == ["root fit gappy: 32/48 frames", "root fit gappy: 48/48 frames"]
     empty = with_voxels(seq, [np.zeros((0, 3), int)] * 2)
     assert np.isnan(fit_roots(empty, angles[:2], np.ones(2, bool), skeleton)).all()
+
+
+@pytest.mark.skipif(not kernels.numba_available(), reason="numba is not installed: numpy path only")
+def test_the_compiled_climb_fits_the_numpy_paths_roots(carved, monkeypatch):
+    """voxpose.apply.root_fit_kernels: the same integer overlaps, so the same roots bit for bit, also for a dress
+    and for angles off by a few degrees (longer climbs)."""
+    seq, angles, skeleton, _ = carved
+    noisy = angles + np.random.default_rng(0).normal(scale=4.0, size=angles.shape)
+    frames = range(0, N_FRAMES, 7)
+    centres = hull_centroids(seq)[::7]
+    pairs = zip(frames, centres, strict=True)
+    dressed = with_voxels(seq, [np.vstack([seq.frame(f)[0], skirt(c, 0.0, seq.l_res)]) for f, c in pairs])
+    cases = [(seq, angles), (seq, noisy), (dressed, angles[::7])]
+    fitted = {}
+    for kind in ("numba", "numpy"):
+        monkeypatch.setenv(kernels.ENV, kind)
+        fitted[kind] = [fit_roots(s, a, np.ones(len(a), bool), skeleton) for s, a in cases]
+    for fast, slow in zip(fitted["numba"], fitted["numpy"], strict=True):
+        assert np.isfinite(slow).all()
+        np.testing.assert_array_equal(fast, slow)
