@@ -32,6 +32,7 @@ An empty hull (silhouettes that do not intersect) gives an empty (0, 3) array, w
 per frame; ``voxels.voxelize`` raises ``EmptyHullError`` when no frame has a hull to measure h_sub on.
 """
 
+import functools
 import itertools
 import math
 
@@ -180,7 +181,7 @@ class Carver:
             full_flat, full_base, full_offsets, full_limits = full_tables
             return carve_kernels.cell_views(u, v, z, rho, *self._window_terms, flat, base.ravel(), offsets, limits,
                                             full_tables is tables, full_flat, full_base.ravel(), full_offsets,
-                                            full_limits)  # fmt: skip
+                                            full_limits, len(self.rig) - self.min_views)  # fmt: skip
         near = z - rho * self._p3norm
         front = near > 0
         scale = rho / np.where(front, near, 1.0)
@@ -262,8 +263,7 @@ class Carver:
             maybe, full = self._cell_views(cells, side, tables, full_tables)
             inside = full >= self.min_views
             if inside.any():
-                block = np.argwhere(np.ones((side,) * 3, dtype=bool))
-                voxels = (cells[inside, None, :] * side + block[None]).reshape(-1, 3)
+                voxels = (cells[inside, None, :] * side + _block(side)[None]).reshape(-1, 3)
                 done.append(voxels[_within(voxels, span)])
             cells = cells[(maybe >= self.min_views) & ~inside]
             cells = (2 * cells[:, None, :] + _CHILDREN[None]).reshape(-1, 3)
@@ -273,6 +273,14 @@ class Carver:
 
 
 _CHILDREN = np.array(list(itertools.product((0, 1), repeat=3)), dtype=np.int64)
+
+
+@functools.cache
+def _block(side: int) -> np.ndarray:
+    """(side^3, 3) voxel offsets of a cell of ``side`` voxels, in C order (read-only: cached)."""
+    block = np.argwhere(np.ones((side,) * 3, dtype=bool))
+    block.flags.writeable = False
+    return block
 
 
 def _clamp(x, high):

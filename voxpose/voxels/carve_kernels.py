@@ -52,14 +52,18 @@ def _hits(flat, base, offsets, limits, cam, u0, u1, v0, v1):  # pragma: no cover
 
 @jit
 def cell_views(u, v, z, rho, p3norm, aa, ap, bb, bp, pp, flat, base, offsets, limits, same, full_flat, full_base,
-               full_offsets, full_limits):  # fmt: skip  # pragma: no cover (compiled)
+               full_offsets, full_limits, max_misses):  # fmt: skip  # pragma: no cover (compiled)
     """``(maybe, full)`` (N,) of ``Carver._cell_views`` from the cells' centre projections ``u, v, z`` (C, N);
-    ``same``: the full tables are the tables (no lens distortion)."""
+    ``same``: the full tables are the tables (no lens distortion). A cell stops at the first camera too many
+    (more than ``max_misses``) that cannot see it: its counts are then those so far, too few either way (a
+    camera that surely sees the cell also may), so every decision is the numpy path's."""
     n_cams, n = u.shape
     maybe = np.zeros(n, dtype=np.int64)
     full = np.zeros(n, dtype=np.int64)
     for i in range(n):
         for cam in range(n_cams):
+            if cam - maybe[i] > max_misses:
+                break
             near = z[cam, i] - rho * p3norm[cam]
             front = near > 0
             scale = rho / (near if front else 1.0)
