@@ -182,7 +182,7 @@ def _soft_votes(surface, first_axis, basis, radius, fold_x, size_y, size_z, cube
             row = cube[(x * size_y + abs(y)) * size_z + abs(z)]
             if row < 0:
                 continue
-            for v in range(bins.shape[1]):
+            for v in range(WIDTH):
                 out[b, flip[signs, bins[row, v]]] += weights[row, v]
             for v in range(extra_start[row], extra_start[row + 1]):
                 out[b, flip[signs, extra_bins[v]]] += extra_weights[v]
