@@ -89,3 +89,10 @@ def test_switch_selects_the_path(monkeypatch):
     monkeypatch.setenv(kernels.ENV, "fortran")
     with pytest.raises(VoxposeError, match="VOXPOSE_KERNELS='fortran'"):
         kernels.use_numba()
+
+
+def test_an_empty_support_fails_at_construction_on_both_paths(monkeypatch):
+    for kind in ("numba", "numpy"):
+        monkeypatch.setenv(kernels.ENV, kind)
+        with pytest.raises(VoxposeError, match="no voxel offset lies in the support"):
+            ShapeContextTable(60, r_min=2.5, r_max=2.55 / 60, soft=True)

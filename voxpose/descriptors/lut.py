@@ -162,10 +162,7 @@ def offset_table(geometry: BinGeometry, soft: bool) -> OffsetTable:
     votes.sum_duplicates()  # also sorts each row's bins
     support = np.flatnonzero(np.diff(votes.indptr))
     if len(support) == 0:
-        raise VoxposeError(
-            f"shape context: no voxel offset lies in the support ({geometry.r_min:g} <= r < "
-            f"{geometry.r_max:g} voxels); raise r_max or h_sub / l_res"
-        )
+        raise geometry.empty_support_error()
     votes, offsets = votes[support], cube[support]
     nnz = np.diff(votes.indptr)
 
@@ -257,9 +254,17 @@ class ShapeContextTable:
         self.geometry = BinGeometry.from_settings(settings, h_sub_voxels)
         self.soft = bool(settings.soft)
         self.normalise = bool(settings.normalise)
-        self.table = offset_table(self.geometry, self.soft)
+        if self.soft and use_numba():  # the kernel's table, built (and checked) now: an empty support fails here
+            lut_kernels.folded_table(self.geometry)
+        else:
+            self.table  # noqa: B018 (built now, for the same reason)
         self._codes = None  # the current _CodeTable, grown to the largest extent seen
         self._codes_lock = threading.Lock()
+
+    @functools.cached_property
+    def table(self) -> OffsetTable:
+        """The numpy path's offset table (built only when used: 0.1 s of CPU per process)."""
+        return offset_table(self.geometry, self.soft)
 
     @property
     def n_bins(self) -> int:

@@ -99,6 +99,8 @@ def folded_table(geometry: BinGeometry) -> FoldedTable:
     grid = np.stack(np.meshgrid(x_axis, half, half, indexing="ij"), axis=-1).reshape(-1, 3)
     votes = _csr_votes(grid, geometry)
     support = np.flatnonzero(np.diff(votes.indptr))
+    if len(support) == 0:
+        raise geometry.empty_support_error()
     cube = np.full(len(grid), -1, dtype=np.int32)
     cube[support] = np.arange(len(support), dtype=np.int32)
     votes = votes[support]

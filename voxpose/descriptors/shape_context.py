@@ -112,6 +112,13 @@ class BinGeometry:
         return cls(n_r=settings.n_r, n_e=settings.n_e, n_a=settings.n_a, r_min=settings.r_min,
                    r_max=r_max * h_sub_voxels)  # fmt: skip
 
+    def empty_support_error(self) -> VoxposeError:
+        """The error for a support that holds no integer voxel offset (both fast paths raise it)."""
+        return VoxposeError(
+            f"shape context: no voxel offset lies in the support ({self.r_min:g} <= r < {self.r_max:g} voxels); "
+            "raise r_max or h_sub / l_res"
+        )
+
     @property
     def n_bins(self) -> int:
         return self.n_r * self.n_e * self.n_a
