@@ -36,7 +36,10 @@ _lock = threading.Lock()
 @functools.cache
 def numba_available() -> bool:
     """Whether numba is installed (found without importing it)."""
-    return importlib.util.find_spec("numba") is not None
+    try:
+        return importlib.util.find_spec("numba") is not None
+    except (ImportError, ValueError):  # a broken install, or numba blocked (sys.modules["numba"] = None)
+        return False
 
 
 def use_numba() -> bool:
