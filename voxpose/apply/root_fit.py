@@ -22,8 +22,9 @@ hull's grid (``voxpose.voxels.occupancy``), so that a shift by whole voxels move
    voxel of shift), so the fraction of a voxel on each axis is the vertex of a symmetric "V" through the best
    shift and its two neighbours (the equiangular fit of stereo matching): exact for a V, 0.5 for a tie.
 
-There is nothing random, so the fit is deterministic. Frames are processed in batches of ``BATCH``, vectorised
-within a batch. Frames without estimate or with an empty hull get ``NaN``.
+The climb of step 2 runs as a numba kernel (``voxpose.apply.root_fit_kernels``) when ``voxpose.kernels`` selects it,
+with the same integer counts. There is nothing random, so the fit is deterministic. Frames are processed in batches
+of ``BATCH``, vectorised within a batch. Frames without estimate or with an empty hull get ``NaN``.
 """
 
 import logging
