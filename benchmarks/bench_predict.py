@@ -31,6 +31,14 @@ frames/s): per-stage times there were about twice these, so the rate depends on 
 features are bound by one (n x 201) @ (201 x K(q + 1)) product per frame. The root fit (added 2026-11-26,
 stand-in model, measured on a loaded VM, load average 11 on 2 cores, every stage slower than above): 2.61 ms
 per frame of 23.20 ms end to end (11 %).
+
+Compiled kernels (2026-11-26, stand-in model, ``taskset -c 0``, nice 15, the VM loaded by other jobs, load
+average 4 - 12; four runs alternating ``VOXPOSE_KERNELS=numpy`` and the default): end to end 19.97 / 17.16 /
+17.92 / 20.75 ms (50.1 / 58.3 / 55.8 / 48.2 frames/s) on the numpy paths, 13.83 / 13.22 / 13.93 / 13.29 ms
+(72.3 / 75.6 / 71.8 / 75.2 frames/s) with the kernels. Best of the four, numpy -> numba, ms per frame: carve
+4.41 -> 2.37, surface and basis 0.75 -> 0.72, 3DSC 6.06 -> 3.99, features 3.44 -> 3.51 (no kernel: one BLAS
+product), novelty 0.31 -> 0.31, root fit 1.98 -> 1.50. Still short of 100 frames/s: the features' product
+and the 3DSC votes (about 8 read-add-writes per pair in the support) are most of what is left.
 """
 
 import os

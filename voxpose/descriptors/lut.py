@@ -53,10 +53,11 @@ kept both cores busy, load average 3 - 6):
   conversions (CSR to CSC and back) instead of sorting: no gain.
 
 Soft votes run in a compiled loop (:mod:`voxpose.descriptors.lut_kernels`, numba) when :mod:`voxpose.kernels`
-selects it: the same votes from a table folded by the reflections of the offsets, 1.6 - 1.9x faster than the
+selects it: the same votes from a table folded by the reflections of the offsets, 1.5 - 1.9x faster than the
 numpy path described above (process CPU time per frame, medians, ``benchmarks/bench_shape_context.py`` run
-alternately with ``VOXPOSE_KERNELS=numpy`` and without, load average 11 - 12 on the 2 cores: 7.00 and 5.65
-against 3.69 and 3.53 ms). Hard votes stay on the numpy path (``np.bincount`` was faster than the loop).
+alternately with ``VOXPOSE_KERNELS=numpy`` and without: 7.00 and 5.65 against 3.69 and 3.53 ms at load average
+11 - 12 on the 2 cores; 4.74 and 5.32 against 3.14 and 3.09 ms at load average 3.6; 2.96 ms at load 0.3). Hard
+votes stay on the numpy path (``np.bincount`` was faster than the loop).
 
 ``ShapeContextTable.describe_frames(frames, threads=2)`` describes frames on a thread pool. The numpy
 and scipy calls above release the GIL (a Python thread kept running during each of them), so two

@@ -30,7 +30,7 @@ distorted projection (``tests/voxels/test_lens.py`` checks it). An undistorted r
 
 Speed. The summed-area tables, the cells' windows and the voxel tests run as numba kernels
 (``voxpose.voxels.carve_kernels``) when ``voxpose.kernels`` selects them: the same arithmetic on the same
-projections, so the same voxels, 1.7x faster (``benchmarks/bench_predict.py``'s carve stage).
+projections, so the same voxels, 1.7 - 2.2x faster (``benchmarks/bench_predict.py``'s carve stage).
 
 An empty hull (silhouettes that do not intersect) gives an empty (0, 3) array, which the caller reports
 per frame; ``voxels.voxelize`` raises ``EmptyHullError`` when no frame has a hull to measure h_sub on.
