@@ -20,6 +20,8 @@ Times are CPU times of this process (robust to a loaded machine). Run on one cor
 
     OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 taskset -c 0 .venv/bin/python benchmarks/bench_predict.py
 
+The compiled kernels (``voxpose/kernels.py``) run unless ``VOXPOSE_KERNELS=numpy``; the last line names them.
+
 Measured (ms per frame; 2026-11-25, idle 2-core AMD EPYC VM, load average 0.1, twice with ``--model`` the default
 run's Table 2 model, 522 relevance vectors, one repeat, before the novelty stage was split out): carve 4.03 / 3.89,
 surface and basis 1.65 / 1.53, 3DSC 6.16 / 6.40, features 4.14 / 4.11, regression 0.01; end to end 16.37 / 15.42
@@ -29,6 +31,14 @@ frames/s): per-stage times there were about twice these, so the rate depends on 
 features are bound by one (n x 201) @ (201 x K(q + 1)) product per frame. The root fit (added 2026-11-26,
 stand-in model, measured on a loaded VM, load average 11 on 2 cores, every stage slower than above): 2.61 ms
 per frame of 23.20 ms end to end (11 %).
+
+Compiled kernels (2026-11-26, stand-in model, ``taskset -c 0``, nice 15, the VM loaded by other jobs, load
+average 4 - 12; four runs alternating ``VOXPOSE_KERNELS=numpy`` and the default): end to end 19.97 / 17.16 /
+17.92 / 20.75 ms (50.1 / 58.3 / 55.8 / 48.2 frames/s) on the numpy paths, 13.83 / 13.22 / 13.93 / 13.29 ms
+(72.3 / 75.6 / 71.8 / 75.2 frames/s) with the kernels. Best of the four, numpy -> numba, ms per frame: carve
+4.41 -> 2.37, surface and basis 0.75 -> 0.72, 3DSC 6.06 -> 3.99, features 3.44 -> 3.51 (no kernel: one BLAS
+product), novelty 0.31 -> 0.31, root fit 1.98 -> 1.50. Still short of 100 frames/s: the features' product
+and the 3DSC votes (about 8 read-add-writes per pair in the support) are most of what is left.
 """
 
 import os
@@ -48,6 +58,7 @@ from voxpose.apply.model_file import PoseModel, load_model  # noqa: E402
 from voxpose.apply.root_fit import fit_roots  # noqa: E402
 from voxpose.features.model import FeatureModel  # noqa: E402
 from voxpose.io.bvh import write_bvh  # noqa: E402
+from voxpose.kernels import use_numba  # noqa: E402
 from voxpose.motion.generate import generate_motion  # noqa: E402
 from voxpose.motion.load import load_motion  # noqa: E402
 from voxpose.motion.output_skeleton import OutputSkeleton  # noqa: E402
@@ -146,7 +157,8 @@ def main() -> None:
     print(f"{'end to end':<16} {1e3 * e2e / n_frames:9.2f} {n_frames / e2e:9.1f}   (predict.carve + "
           f"predict.predict_voxels; {n_frames / e2e / TARGET:.2f} x the target of {TARGET} frames/s)")  # fmt: skip
     print(f"{'PNG reading':<16} {1e3 * io / n_frames:9.2f} {n_frames / io:9.1f}   (6 files per frame, not included)")
-    print(f"load average {' '.join(f'{x:.2f}' for x in os.getloadavg())} (1, 5, 15 min)")
+    print(f"load average {' '.join(f'{x:.2f}' for x in os.getloadavg())} (1, 5, 15 min); kernels: "
+          f"{'numba' if use_numba() else 'numpy'} (VOXPOSE_KERNELS)")  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -24,6 +24,7 @@ from scipy import ndimage
 
 from voxpose.descriptors.lut import ShapeContextTable
 from voxpose.descriptors.shape_context import shape_contexts
+from voxpose.kernels import use_numba
 
 HEIGHT = 1.75  # metres
 VOXELS_PER_HEIGHT = 60  # l_res = h_sub / 60 (Section 4)
@@ -162,7 +163,8 @@ def main(argv=None):
         f"\nper descriptor: {np.mean(in_support):.0f} surface voxels in the support, "
         f"{np.mean(non_empty):.0f} of {soft[0].shape[1]} bins non-empty (soft votes)"
     )
-    print(f"load average at the end: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    print(f"load average at the end: {' '.join(f'{x:.2f}' for x in os.getloadavg())}; soft-vote kernel: "
+          f"{'numba' if use_numba() else 'numpy'} (VOXPOSE_KERNELS)")  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -8,7 +8,7 @@ from voxpose.import_graph import closure, code_hash, import_graph, module_files
 
 # The stages bottom-up: a module may import its own layer and the layers below, never one above.
 LAYERS = (
-    ("errors", "validation", "import_graph", "config_schema"),
+    ("errors", "validation", "import_graph", "config_schema", "kernels"),
     ("io", "provenance"),
     ("motion",),
     ("voxels",),

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from tests.helpers import without_frame
+from voxpose import kernels
 from voxpose.apply.posed_body import posed_body, skeleton_height, subject_skeleton
 from voxpose.apply.root_fit import fit_roots, hull_centroids
 from voxpose.io.bvh import write_bvh
@@ -122,3 +123,23 @@ def test_a_model_skeleton_of_another_size_is_scaled_to_the_subject(carved):
              for name, s in (("scaled", scaled), ("unscaled", small))}  # fmt: skip
     assert error["scaled"].max() < 1.0
     assert error["unscaled"].mean() > 1.5  # measured 1.86 voxels (5.3 cm) mean, 0.07 scaled
+
+
+@pytest.mark.skipif(not kernels.numba_available(), reason="numba is not installed: numpy path only")
+def test_the_compiled_climb_fits_the_numpy_paths_roots(carved, monkeypatch):
+    """voxpose.apply.root_fit_kernels: the same integer overlaps, so the same roots bit for bit, also for a dress
+    and for angles off by a few degrees (longer climbs)."""
+    seq, angles, skeleton, _ = carved
+    noisy = angles + np.random.default_rng(0).normal(scale=4.0, size=angles.shape)
+    frames = range(0, N_FRAMES, 7)
+    centres = hull_centroids(seq)[::7]
+    pairs = zip(frames, centres, strict=True)
+    dressed = with_voxels(seq, [np.vstack([seq.frame(f)[0], skirt(c, 0.0, seq.l_res)]) for f, c in pairs])
+    cases = [(seq, angles), (seq, noisy), (dressed, angles[::7])]
+    fitted = {}
+    for kind in ("numba", "numpy"):
+        monkeypatch.setenv(kernels.ENV, kind)
+        fitted[kind] = [fit_roots(s, a, np.ones(len(a), bool), skeleton) for s, a in cases]
+    for fast, slow in zip(fitted["numba"], fitted["numpy"], strict=True):
+        assert np.isfinite(slow).all()
+        np.testing.assert_array_equal(fast, slow)

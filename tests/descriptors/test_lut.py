@@ -3,10 +3,19 @@
 import numpy as np
 import pytest
 
+from voxpose import kernels
 from voxpose.descriptors import lut as lut
 from voxpose.descriptors.lut import ShapeContextTable, offset_table
 from voxpose.descriptors.shape_context import shape_contexts
 from voxpose.errors import VoxposeError
+
+
+@pytest.fixture(autouse=True)
+def numpy_path(monkeypatch):
+    """These tests pin the numpy path (the reference implementation of the fast path); the compiled kernel is
+    compared with it in test_lut_kernels.py."""
+    monkeypatch.setenv(kernels.ENV, "numpy")
+
 
 L_RES = 1.75 / 60  # a voxel size with no exact binary form, as in the paper's l_res = h_sub / 60
 

@@ -14,7 +14,7 @@ pytestmark = pytest.mark.workflow  # slow: deselect with -m "not workflow"
 QUICK = yaml.safe_load((ROOT / "config/quick.yaml").read_text())
 TARGETS = ("results/tables/generalisation.csv", "results/tables/experiments/table2.csv")
 METHODS = ["mvrvm", "kmeans", "nearest_neighbour", "kernel_ridge", "mean_pose"]
-RUN = "circle6-quick/R0.3333-r2-4x5x10-soft/mppca-K16-q3"
+RUN = "circle6-quick/R0.3333-r2-4x5x10-soft-body/mppca-K16-q3"
 
 
 @pytest.fixture(scope="module")

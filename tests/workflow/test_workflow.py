@@ -44,8 +44,8 @@ def test_quick_run_writes_every_artifact(workflow_dir):
         "figures/gallery.png",
         "figures/joint_errors.png",
         "figures/error_over_time.png",
-        "models/table1/circle6-quick/R0.3333-r2-4x5x10-soft/mppca-K16-q3/model.h5",
-        "models/table2/circle6-quick/R0.3333-r2-4x5x10-soft/mppca-K16-q3/model.h5",
+        "models/table1/circle6-quick/R0.3333-r2-4x5x10-soft-body/mppca-K16-q3/model.h5",
+        "models/table2/circle6-quick/R0.3333-r2-4x5x10-soft-body/mppca-K16-q3/model.h5",
         "figures/camera_rigs.png",
         "tables/camera_rigs.csv",
         "figures/robustness.png",
@@ -59,7 +59,7 @@ def test_quick_run_writes_every_artifact(workflow_dir):
     paper = t1[t1["source"] == "paper"].iloc[0]
     assert (paper["full body"], paper["body heading angle"]) == (5.2, 8.8)
     train, test = ([f"{k}_gen_{i}" for k in ("drunk", "jog", "jump", "spiral", "walk")] for i in ("00", "01"))
-    run = f"results/runs/{wc.motion_set_tag(train)}/circle6-quick/R0.3333-r2-4x5x10-soft/mppca-K16-q3"
+    run = f"results/runs/{wc.motion_set_tag(train)}/circle6-quick/R0.3333-r2-4x5x10-soft-body/mppca-K16-q3"
     summary = json.loads((workflow_dir / run / f"sets/{wc.motion_set_tag(test)}/summary.json").read_text())
     assert summary["train"] == [f"{k}_gen_00" for k in ("drunk", "jog", "jump", "spiral", "walk")]
     assert set(summary["methods"]) == {"mvrvm", "mean_pose", "nearest_neighbour", "kernel_ridge"}
@@ -317,7 +317,7 @@ def test_verify_finds_damaged_caches_and_their_forced_rerun_gives_identical_tabl
     tables = sorted((workflow_dir / "results/tables").rglob("*.csv"))
     before = [p.read_bytes() for p in tables]
     voxels = "results/voxels/irregular6/drunk_gen_00.h5"  # a claims rig's test motion: few dependants
-    descriptors = "results/descriptors/circle6-quick/R0.3-r2-4x5x10-soft/walk_gen_00.h5"  # a Figure 4 sweep point
+    descriptors = "results/descriptors/circle6-quick/R0.3-r2-4x5x10-soft-body/walk_gen_00.h5"  # a Figure 4 sweep point
     _damage(workflow_dir / voxels, "truncate")
     _damage(workflow_dir / descriptors, "flip")
     assert scheduled(workflow_dir) == {}  # Snakemake alone sees nothing

@@ -22,8 +22,9 @@ hull's grid (``voxpose.voxels.occupancy``), so that a shift by whole voxels move
    voxel of shift), so the fraction of a voxel on each axis is the vertex of a symmetric "V" through the best
    shift and its two neighbours (the equiangular fit of stereo matching): exact for a V, 0.5 for a tie.
 
-There is nothing random, so the fit is deterministic. Frames are processed in batches of ``BATCH``, vectorised
-within a batch. Frames without estimate or with an empty hull get ``NaN``.
+The climb of step 2 runs as a numba kernel (``voxpose.apply.root_fit_kernels``) when ``voxpose.kernels`` selects it,
+with the same integer counts. There is nothing random, so the fit is deterministic. Frames are processed in batches
+of ``BATCH``, vectorised within a batch. Frames without estimate or with an empty hull get ``NaN``.
 """
 
 import logging
@@ -31,8 +32,10 @@ import logging
 import numpy as np
 from scipy import fft
 
+from voxpose.apply import root_fit_kernels
 from voxpose.apply.posed_body import posed_body
 from voxpose.errors import VoxposeError
+from voxpose.kernels import use_numba
 from voxpose.motion.output_skeleton import OutputSkeleton
 from voxpose.voxels.occupancy import occupied_voxels
 from voxpose.voxels.sequence import VoxelSequence
@@ -137,6 +140,12 @@ def _fine_shifts(hull_frame, hull, body_frame, body, shift) -> np.ndarray:
     size = np.asarray(shape)
     offsets = _STEPS @ [shape[1] * shape[2], shape[2], 1]  # the steps as offsets of the flat index
     scores = np.zeros((n, len(_STEPS)))
+    if use_numba():  # the same climb in one loop (voxpose.apply.root_fit_kernels)
+        still = root_fit_kernels.climb(occupied, size, offsets, _STEPS, body_frame, body, shift, lo, scores,
+                                       MAX_CLIMB)  # fmt: skip
+        if still:
+            log.warning("root fit: %d frames still climbing after %d steps", still, MAX_CLIMB)
+        return shift + _fractions(scores)
     active = np.ones(n, dtype=bool)
     for _ in range(MAX_CLIMB):
         keep = active[body_frame]
@@ -154,5 +163,9 @@ def _fine_shifts(hull_frame, hull, body_frame, body, shift) -> np.ndarray:
             break
     else:
         log.warning("root fit: %d frames still climbing after %d steps", int(active.sum()), MAX_CLIMB)
-    frac = np.stack([_vertex(scores[:, 1 + 2 * a], scores[:, 0], scores[:, 2 + 2 * a]) for a in range(3)], axis=1)
-    return shift + frac
+    return shift + _fractions(scores)
+
+
+def _fractions(scores) -> np.ndarray:
+    """(n, 3) sub-voxel shifts from the overlaps (n, 7) at the best whole-voxel shift and its neighbours (step 3)."""
+    return np.stack([_vertex(scores[:, 1 + 2 * a], scores[:, 0], scores[:, 2 + 2 * a]) for a in range(3)], axis=1)

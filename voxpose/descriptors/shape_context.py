@@ -112,6 +112,13 @@ class BinGeometry:
         return cls(n_r=settings.n_r, n_e=settings.n_e, n_a=settings.n_a, r_min=settings.r_min,
                    r_max=r_max * h_sub_voxels)  # fmt: skip
 
+    def empty_support_error(self) -> VoxposeError:
+        """The error for a support that holds no integer voxel offset (both fast paths raise it)."""
+        return VoxposeError(
+            f"shape context: no voxel offset lies in the support ({self.r_min:g} <= r < {self.r_max:g} voxels); "
+            "raise r_max or h_sub / l_res"
+        )
+
     @property
     def n_bins(self) -> int:
         return self.n_r * self.n_e * self.n_a
@@ -163,7 +170,7 @@ def _hard_axis(t: np.ndarray, n: int, wrap: bool):
     return k[:, None], np.ones((len(t), 1))
 
 
-def _soft_axis(t: np.ndarray, n: int, wrap: bool):
+def soft_axis(t: np.ndarray, n: int, wrap: bool):
     """Two bins per point along an axis: linear interpolation between bin centres at ``k + 1/2``."""
     s = _snap(t - 0.5)  # a point at a bin centre gives it all, with no round-off vote next door
     lo = np.floor(s)
@@ -199,7 +206,7 @@ def offset_votes(offsets, geometry: BinGeometry, *, soft: bool):
     g = geometry
     t_r, t_e, t_a, pole = g.coordinates(offsets)
     inside = np.flatnonzero((t_r >= 0.0) & (t_r < g.n_r))
-    axis = _soft_axis if soft else _hard_axis
+    axis = soft_axis if soft else _hard_axis
     k_r, f_r = axis(t_r[inside], g.n_r, wrap=False)
     k_e, f_e = axis(t_e[inside], g.n_e, wrap=False)
     on_axis = pole[inside]
