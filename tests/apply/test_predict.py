@@ -8,6 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from tests.apply.pipeline import run, train_model
 from tests.helpers import without_frame
 from voxpose.apply.model_file import load_model
 from voxpose.apply.outputs import read_record
@@ -42,10 +43,6 @@ REGRESSION = {"pca_variance": 0.9, "heading": "vector", "kernel_width": "auto", 
               "max_iter": 500, "tol": 1e-3}  # fmt: skip
 
 
-def run(*args):
-    assert main([str(a) for a in args]) == 0, args
-
-
 def voxpose(capsys, *args):
     """Run ``voxpose`` in this process; -> (exit status, stderr)."""
     capsys.readouterr()
@@ -67,28 +64,8 @@ def one_line_error(result, *fragments):
 def trained(tmp_path_factory):
     """The workflow's steps on tiny data: motions, voxels, descriptors, MPPCA, regression, model file."""
     d = tmp_path_factory.mktemp("predict")
-    run("rig", "--params", json.dumps(RIG), "-o", d / "rig.json")
-    for name in (*TRAIN, TEST):
-        kind, _, index = name.split("_")
-        run("generate", "--kind", kind, "--index", int(index), "--frames", 24, "--seed", 5, "-o", d / f"{name}.bvh")
-        run("motion", d / f"{name}.bvh", "-o", d / f"{name}.h5")
-        extra = ["--export-silhouettes", d / "sil"] if name == TEST else []
-        run("voxelize", d / f"{name}.h5", "--rig", d / "rig.json", "--params", json.dumps(VOXELS), "--seed", 7,
-            "-o", d / f"vox_{name}.h5", *extra)  # fmt: skip
-        run("describe", d / f"vox_{name}.h5", "--params", json.dumps(DESCRIPTOR), "-o", d / f"desc_{name}.h5")
-    run("fit-features", *(d / f"desc_{n}.h5" for n in TRAIN), "--method", "mppca", "--params", json.dumps(FEATURES),
-        "--seed", 7, "-o", d / "features_model.h5")  # fmt: skip
-    run("features", d / "features_model.h5", *(d / f"desc_{n}.h5" for n in (*TRAIN, TEST)), "-o", d / "features.h5")
-    run("regress", d / "features.h5", *(d / f"{n}.h5" for n in TRAIN), "--train", ",".join(TRAIN),
-        "--params", json.dumps(REGRESSION), "--seed", 7, "--regressor", d / "regressor.h5",
-        "--baselines", d / "baselines.h5", "--fit", d / "fit.json")  # fmt: skip
-    run("evaluate", d / "features.h5", d / f"{TEST}.h5", "--regressor", d / "regressor.h5", "--baselines",
-        d / "baselines.h5", "--fit", d / "fit.json", "--test", TEST, "--params", json.dumps(REGRESSION),
-        "--predictions", d / "predictions.h5", "--angles", d / "angles.csv", "-o", d / "summary.json")  # fmt: skip
-    run("export-model", "--feature-model", d / "features_model.h5", "--regressor", d / "regressor.h5",
-        "--summary", d / "summary.json", "--motions", *(d / f"{n}.h5" for n in TRAIN), "--voxels", json.dumps(VOXELS),
-        "--descriptor", json.dumps(DESCRIPTOR), "--regression", json.dumps(REGRESSION), "--seed", 7,
-        "-o", d / "model.h5")  # fmt: skip
+    train_model(d, train=TRAIN, test=TEST, frames=24, rig=RIG, voxels=VOXELS, descriptor=DESCRIPTOR,
+                features=FEATURES, regression=REGRESSION, silhouettes=d / "sil")
     return d
 
 
