@@ -234,7 +234,8 @@ def test_tags_distinguish_parameter_sets(config):
     d = config["descriptor"]
     tags = {wc.descriptor_tag(dict(d, r_max=r)) for r in (0.2, 0.267, 0.333333333333, 0.4)}
     assert len(tags) == 4
-    assert wc.descriptor_tag(d) == "R0.3333-r2-4x5x10-soft"
+    assert wc.descriptor_tag(d) == "R0.3333-r2-4x5x10-soft-body"
+    assert wc.descriptor_tag(dict(d, frame="world")) == "R0.3333-r2-4x5x10-soft"
     assert wc.feature_tag("mppca", config["features"]) == "mppca-K200-q5"
     assert wc.feature_tag("kmeans", config["features"]) == "kmeans-K200-n5"
 
