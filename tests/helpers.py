@@ -470,3 +470,12 @@ def copy_workflow(work: Path) -> Path:
         src = ROOT / item
         (shutil.copytree if src.is_dir() else shutil.copy)(src, work / item)
     return work
+
+
+GENERATED_MAP = {
+    "root": "Hips", "neck": "Neck", "head_top": "Head", "lshoulder": "LeftArm", "lelbow": "LeftForeArm",
+    "lwrist": "LeftHand", "lhand_tip": "LeftHand", "lhip": "LeftUpLeg", "lknee": "LeftLeg", "lankle": "LeftFoot",
+    "ltoe": "LeftToe",
+}  # fmt: skip
+GENERATED_MAP |= {"r" + k[1:]: v.replace("Left", "Right") for k, v in GENERATED_MAP.items() if k[0] == "l"}
+"""The generated skeleton's joint map written out, for tests that load renamed copies through a config map."""

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import yaml
 
-from tests.helpers import rebase_frames, renamed, reorder_channels
+from tests.helpers import GENERATED_MAP, rebase_frames, renamed, reorder_channels
 from voxpose.io.bvh import Bvh, BvhJoint, joint_columns, read_bvh, write_bvh
 from voxpose.motion import canon
 from voxpose.motion.bvh_kinematics import forward_kinematics, local_transforms, rest_pose
@@ -75,12 +75,6 @@ def knuckle_rig(bvh: Bvh) -> Bvh:
     return renamed(rig, {j.name: j.name + "_b" for j in rig.joints})
 
 
-GENERATED_MAP = {
-    "root": "Hips", "neck": "Neck", "head_top": "Head", "lshoulder": "LeftArm", "lelbow": "LeftForeArm",
-    "lwrist": "LeftHand", "lhand_tip": "LeftHand", "lhip": "LeftUpLeg", "lknee": "LeftLeg", "lankle": "LeftFoot",
-    "ltoe": "LeftToe",
-}  # fmt: skip
-GENERATED_MAP |= {"r" + k[1:]: v.replace("Left", "Right") for k, v in GENERATED_MAP.items() if k[0] == "l"}
 KNUCKLE_MAP = {k: v + "_b" for k, v in GENERATED_MAP.items()}
 
 

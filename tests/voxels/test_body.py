@@ -13,6 +13,7 @@ from voxpose.motion import canon
 from voxpose.motion.data import MotionData
 from voxpose.motion.rotations import axis_rotation
 from voxpose.voxels.body import DEFAULT_PROPORTIONS, SEGMENTS, body_ellipsoids, resolve_proportions
+from voxpose.voxels.landmarks import SHOULDER_HALF_WIDTH, anatomical_points
 
 
 def _ellipsoid_points(el, f, e, n=2000, seed=0):
@@ -36,8 +37,9 @@ def test_tpose_axes_and_extent():
     assert np.allclose(rot[thigh][:, 0], [0, -1, 0]) and np.allclose(rot[thigh][:, 1], [1, 0, 0])
     foot = SEGMENTS.index("lfoot")
     assert np.allclose(rot[foot][:, 0], [0, 0, 1])
-    # the upper arm spans shoulder - 0.1 L .. elbow + 0.05 L along +X (L = 0.29 m)
-    shoulder_x = 0.17
+    # the upper arm spans shoulder - 0.1 L .. elbow + 0.05 L along +X (L = 0.29 m), the shoulder moved from the
+    # joint (0.17 m) to the glenohumeral landmark 0.1295 h from the midline, the arm with it
+    shoulder_x = SHOULDER_HALF_WIDTH * 1.75
     centre = el.centres[0, upper]
     half = el.radii[0, upper, 0]
     assert np.isclose(centre[0] - half, shoulder_x - 0.1 * 0.29)
@@ -52,7 +54,7 @@ def test_tpose_axes_and_extent():
 def test_long_axis_follows_each_segment_in_a_posed_frame():
     motion = walk_motion(3)
     el = body_ellipsoids(motion)
-    points = np.concatenate([motion.positions, motion.ends], axis=1)
+    points = np.concatenate(anatomical_points(motion.positions, motion.ends, motion.height), axis=1)
     names = canon.JOINTS + canon.ENDS
     pairs = {"lforearm": ("lelbow", "lwrist"), "rshin": ("rknee", "rankle"), "lfoot": ("lankle", "ltoe")}
     for seg, (a, b) in pairs.items():

@@ -17,6 +17,11 @@ l/r shin                   knee -> ankle                knee
 l/r foot                   ankle -> toe                 ankle
 =========================  ==========================  ===========
 
+The points ``a`` and ``b`` are anatomical landmarks, not the raw joints (``voxpose.voxels.landmarks``): the
+root is the pelvis centre between the hip joints, the neck the base of the neck, the shoulders and hips
+the glenohumeral and hip joint centres at anthropometric widths, with the limbs hanging from them. So
+the same person gets the same body whichever skeleton family carries the motion.
+
 Each solid's first axis (its length) lies along its segment ``a -> b``; the two cross-section axes (its
 width and depth) come from the owning joint's canonical world rotation, so a flattened torso, hand or
 foot turns with the body. Precisely, with ``B`` the solid's axes in the T-pose (columns: length, width,
@@ -48,6 +53,7 @@ from voxpose.errors import VoxposeError
 from voxpose.motion import canon
 from voxpose.motion.data import MotionData
 from voxpose.motion.rotations import minimal_rotation
+from voxpose.voxels.landmarks import anatomical_points
 
 _X, _Y, _Z = np.eye(3)
 
@@ -205,6 +211,7 @@ def body_ellipsoids(motion, proportions=None) -> Ellipsoids:
     """
     positions, rotations, ends, height, label = _pose_arrays(motion)
     table = resolve_proportions(proportions)
+    positions, ends = anatomical_points(positions, ends, height, label)
     points = np.concatenate([positions, ends], axis=1)
     index = {name: i for i, name in enumerate(canon.JOINTS + canon.ENDS)}
     a = points[:, [index[s[0]] for s in _SEGMENTS.values()]]
