@@ -30,6 +30,7 @@ def run(args):
         motion,
         rig,
         proportions=settings.proportions or None,
+        variation=settings.body_variation(motion.name, args.seed),
         seed=args.seed,
         follow_subject=settings.follow_subject,
         keep_silhouettes=bool(args.export_silhouettes),

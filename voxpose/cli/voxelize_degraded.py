@@ -40,6 +40,7 @@ def run(args):
     min_views = spec.get("min_views", settings.min_views)
     seq = voxelize_degraded(
         motion, rig, degradation, proportions=settings.proportions or None, follow_subject=settings.follow_subject,
+        variation=settings.body_variation(motion.name, args.seed),
         seed=args.seed, **(settings.carving() | {"min_views": min_views}),
     )  # fmt: skip
     meta = voxel_meta(rig, args.rig, cfg, motion.name) | {"degradation": spec, "min_views": min_views}

@@ -31,14 +31,14 @@ from voxpose.voxels.render import render_silhouettes
 log = logging.getLogger(__name__)
 
 
-def render_contexts(motion, rig, cfg: dict, *, proportions=None, follow_subject=True):
+def render_contexts(motion, rig, cfg: dict, *, proportions=None, variation=None, follow_subject=True):
     """Shape contexts of every view of every frame of ``motion`` seen by ``rig``.
 
     ``cfg``: the config's ``claims.contour`` section (``n_points``, ``n_r``, ``n_theta``, ``r_inner``,
     ``r_outer``). Returns ``contexts`` (N, n_r * n_theta) float32, the rows of image ``f * C + c`` being
     ``contexts[offsets[f * C + c]:offsets[f * C + c + 1]]``, and ``offsets`` (F * C + 1,) int64.
     """
-    ellipsoids, _ = posed_body(motion, rig, proportions=proportions, follow_subject=follow_subject)
+    ellipsoids, _ = posed_body(motion, rig, proportions=proportions, variation=variation, follow_subject=follow_subject)
     sc_args = {k: cfg[k] for k in ("n_r", "n_theta", "r_inner", "r_outer")}
     parts = []
     for f in range(motion.n_frames):

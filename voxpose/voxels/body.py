@@ -53,6 +53,7 @@ from voxpose.errors import VoxposeError
 from voxpose.motion import canon
 from voxpose.motion.data import MotionData
 from voxpose.motion.rotations import minimal_rotation
+from voxpose.voxels.body_variation import vary_girths, vary_lengths
 from voxpose.voxels.landmarks import anatomical_points
 
 _X, _Y, _Z = np.eye(3)
@@ -195,7 +196,7 @@ def _pose_arrays(motion):
     return positions, rotations, ends, height, label
 
 
-def body_ellipsoids(motion, proportions=None) -> Ellipsoids:
+def body_ellipsoids(motion, proportions=None, variation=None) -> Ellipsoids:
     """The body model of every frame of a motion (Section 6), vectorised over frames.
 
     Parameters
@@ -203,6 +204,7 @@ def body_ellipsoids(motion, proportions=None) -> Ellipsoids:
     motion : ``MotionData``, or a dict with ``positions`` (F, 14, 3), ``rotations`` (F, 14, 3, 3),
         ``ends`` (F, 5, 3) in metres and canonical world frames, and ``height`` (metres).
     proportions : overrides of ``DEFAULT_PROPORTIONS`` (``{segment: {key: value}}``).
+    variation : this motion's girth and length factors (``voxels.body_variation.BodyVariation.draw``), or None.
 
     Returns
     -------
@@ -212,6 +214,9 @@ def body_ellipsoids(motion, proportions=None) -> Ellipsoids:
     positions, rotations, ends, height, label = _pose_arrays(motion)
     table = resolve_proportions(proportions)
     positions, ends = anatomical_points(positions, ends, height, label)
+    if variation is not None:
+        table = vary_girths(table, variation["girth"])
+        positions, ends = vary_lengths(positions, ends, variation["length"])
     points = np.concatenate([positions, ends], axis=1)
     index = {name: i for i, name in enumerate(canon.JOINTS + canon.ENDS)}
     a = points[:, [index[s[0]] for s in _SEGMENTS.values()]]

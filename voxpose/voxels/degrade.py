@@ -159,19 +159,23 @@ class Degradation:
         return Rig(rig.name, cameras)
 
 
-def posed_body(motion, rig: Rig, *, proportions=None, follow_subject: bool = True):
+def posed_body(motion, rig: Rig, *, proportions=None, variation=None, follow_subject: bool = True):
     """(Ellipsoids (F frames), shifts (F, 3)): the body model placed as ``voxelize_motion`` places it."""
     shifts = subject_shifts(motion, rig) if follow_subject else np.zeros((motion.n_frames, 3))
-    return body_ellipsoids(motion, proportions).translated(shifts), shifts
+    return body_ellipsoids(motion, proportions, variation).translated(shifts), shifts
 
 
-def voxelize_degraded(motion, rig: Rig, degradation: Degradation, *, proportions=None, follow_subject=True, **carving):
+def voxelize_degraded(
+    motion, rig: Rig, degradation: Degradation, *, proportions=None, variation=None, follow_subject=True, **carving
+):
     """Render ``motion`` into ``rig``, degrade every frame, carve with ``degradation.carving_rig(rig)``.
 
     ``carving``: ``l_res_fraction``, ``min_views``, ``n_basis``, ``seed`` of ``voxels.voxelize.voxelize_silhouettes``.
     h_sub is measured on the degraded data, as it would be on real data.
     """
-    ellipsoids, shifts = posed_body(motion, rig, proportions=proportions, follow_subject=follow_subject)
+    ellipsoids, shifts = posed_body(
+        motion, rig, proportions=proportions, variation=variation, follow_subject=follow_subject
+    )
 
     def frames():
         for f in range(motion.n_frames):

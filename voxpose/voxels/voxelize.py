@@ -140,6 +140,7 @@ def voxelize_motion(
     rig: Rig,
     *,
     proportions=None,
+    variation=None,
     l_res_fraction: float = DEFAULTS.l_res_fraction,
     min_views: int | None = DEFAULTS.min_views,
     n_basis: int = DEFAULTS.n_basis,
@@ -150,11 +151,12 @@ def voxelize_motion(
 ) -> VoxelSequence:
     """Render the body model of a ``MotionData`` into ``rig`` and voxelise every frame (module docstring).
 
-    ``proportions`` overrides the body model's sizes (``voxels.body.DEFAULT_PROPORTIONS``); the other arguments
+    ``proportions`` overrides the body model's sizes (``voxels.body.DEFAULT_PROPORTIONS``), ``variation`` gives
+    this motion's body its own girths and lengths (``voxels.body_variation``); the other arguments
     are those of ``voxelize_silhouettes``.
     """
     _check_fraction(l_res_fraction)
-    ellipsoids = body_ellipsoids(motion, proportions)
+    ellipsoids = body_ellipsoids(motion, proportions, variation)
     shifts = subject_shifts(motion, rig) if follow_subject else np.zeros((motion.n_frames, 3))
     ellipsoids = ellipsoids.translated(shifts)
     frames = (render_silhouettes(ellipsoids.frame(f), rig) for f in range(motion.n_frames))

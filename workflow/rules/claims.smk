@@ -17,6 +17,7 @@ rule silhouette_contexts:  # lint: no conda/container, see Snakefile
     params:
         cfg=arg(CLAIMS["contour"]),
         voxels=arg(config["voxels"]),
+        seed=config["seed"],
         code=code("silhouette-contexts"),
     log:
         "results/logs/silhouette_contexts/{rig}/{ctx}/{motion}.log",
@@ -27,7 +28,7 @@ rule silhouette_contexts:  # lint: no conda/container, see Snakefile
         runtime=by_frames(5, 0.005),
     shell:
         "voxpose silhouette-contexts {input.motion} --rig {input.rig} --params {params.cfg}"
-        " --voxel-params {params.voxels} -o {output} --log {log}"
+        " --voxel-params {params.voxels} --seed {params.seed} -o {output} --log {log}"
 
 
 rule fit_silhouette_features:  # lint: no conda/container, see Snakefile
