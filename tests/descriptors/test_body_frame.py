@@ -4,7 +4,7 @@ resampled grid is the hull's, and descriptors of a hull turned on the grid are t
 import numpy as np
 import pytest
 
-from voxpose.descriptors.body_frame import BASIS_SEED, body_voxels, reference_heading
+from voxpose.descriptors.body_frame import BASIS_SEED, body_voxels, continuous_headings, reference_heading
 from voxpose.descriptors.lut import ShapeContextTable
 from voxpose.descriptors.sequence import describe_sequence
 from voxpose.descriptors.settings import DescriptorSettings
@@ -110,3 +110,55 @@ def test_frame_is_world_or_body_and_names_the_descriptor_folder():
     assert DescriptorSettings(frame="body").tag() == "R0.3333-r2-4x5x10-soft-body"
     with pytest.raises(VoxposeError, match="frame must be one of world, body"):
         DescriptorSettings.from_config({"frame": "camera"})
+
+
+def sense_track(n=120, seed=0):
+    """A planted heading track turning 200 degrees over ``n`` frames: axes (either sense, with 1 degree noise),
+    scores voting for the true sense with magnitudes 0.2-1, and the truth."""
+    rng = np.random.default_rng(seed)
+    truth = np.mod(40.0 + np.linspace(0.0, 200.0, n), 360.0)
+    flip = rng.random(n) < 0.5  # the axis is reported in either sense
+    axes = truth + 180.0 * flip + rng.normal(0.0, 1.0, n)
+    scores = rng.uniform(0.2, 1.0, n) * np.where(flip, -1.0, 1.0)
+    return axes, scores, truth
+
+
+def angle_error(a, b):
+    return np.abs(np.mod(np.asarray(a) - b + 180.0, 360.0) - 180.0)
+
+
+def test_continuous_headings_undo_isolated_and_short_flips():
+    axes, scores, truth = sense_track()
+    scores[[5, 40, 41, 42, 90]] *= -0.5  # the votes point backwards on five frames (one run of three)
+    scores[:2] *= -1.0  # and on the first two
+    alone = np.array([continuous_headings([a], [s], [0])[0] for a, s in zip(axes, scores, strict=True)])
+    assert (angle_error(alone, truth) > 135).sum() == 7  # what the per-frame rule does
+    headings = continuous_headings(axes, scores, np.arange(len(axes)))
+    assert angle_error(headings, truth).max() < 5.0
+
+
+def test_continuous_headings_follow_the_majority_of_a_sequence():
+    axes, scores, truth = sense_track(seed=1)
+    scores[:70] *= -1.0  # most frames vote backwards: the sequence faces backwards, consistently
+    headings = continuous_headings(axes, scores, np.arange(len(axes)))
+    assert (angle_error(headings, truth + 180.0) < 5.0).all()
+
+
+def test_continuous_headings_turn_with_the_world():
+    axes, scores, _ = sense_track(seed=2)
+    scores[[10, 11, 60]] *= -1.0
+    frames = np.arange(len(axes))
+    base = continuous_headings(axes, scores, frames)
+    for phi in (37.5, 90.0, 180.0, 301.0):
+        assert angle_error(continuous_headings(axes + phi, scores, frames), base + phi).max() < 1e-9
+
+
+def test_a_gap_unlinks_the_frames_around_it():
+    """Across a gap the votes decide alone: a true about-turn while the subject was out of view is kept; linked,
+    the weaker votes give way."""
+    axes = np.array([10.0, 11.0, 12.0, 190.0, 191.0, 192.0])
+    scores = np.array([1.0, 1.0, 1.0, 0.5, 0.5, 0.5])
+    linked = continuous_headings(axes, scores, [0, 1, 2, 3, 4, 5])
+    unlinked = continuous_headings(axes, scores, [0, 1, 2, 40, 41, 42])
+    assert angle_error(unlinked, axes).max() < 1e-9
+    assert angle_error(linked[:3], axes[:3]).max() < 1e-9 and angle_error(linked[3:], axes[3:] - 180).max() < 1e-9

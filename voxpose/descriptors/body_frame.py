@@ -22,7 +22,9 @@ changes every descriptor, and a regressor recognises only the headings its train
    alone and 98.4 - 98.7 % with head weights 5, 20 or 40; on fewer frames (200) the skew alone beat the trunk
    band's own skew (86.0 %), the whole hull's (72.0 %) and the feet's offset from the shins (71.5 %). A
    modulo-180 reference alone turns the frame by 180 degrees whenever the world turns by 180, and the
-   regressor's front/back calls then decide the heading: the rotation test failed with it;
+   regressor's front/back calls then decide the heading: the rotation test failed with it. In a sequence the
+   senses are chosen together (``continuous_headings``): a hull does not turn by more than 90 degrees from one
+   frame to the next, which undoes the frames whose own score points backwards;
 2. the occupied voxels are resampled on a grid turned by ``h0`` about the vertical through the band's
    centroid (nearest neighbour: a cell of the turned grid is occupied when the voxel its centre falls in
    is), surface voxels are found again on it (``voxels.surface.surface_mask``) and the basis voxels are
@@ -69,6 +71,13 @@ def reference_heading(points, h_sub_voxels: float) -> tuple[float, np.ndarray]:
     ``points`` (N, 3) are voxel indices or centres in voxel units, Y up; ``h_sub_voxels`` the subject height
     in the same units. Turning the points by ``phi`` about any vertical axis turns ``h0`` by ``phi``.
     """
+    axis, score, pivot = heading_axis(points, h_sub_voxels)
+    return float(continuous_headings([axis], [score], [0])[0]), pivot
+
+
+def heading_axis(points, h_sub_voxels: float) -> tuple[float, float, np.ndarray]:
+    """``(axis, score, pivot)``: the facing axis in degrees (one of its two senses), the sense score (positive:
+    the hull leans forward along ``axis``) and the pivot, before the sense is chosen (module docstring)."""
     p = np.asarray(points, dtype=np.float64)
     y0 = p[:, 1].mean()
     band = H_BAND * float(h_sub_voxels)
@@ -84,9 +93,43 @@ def reference_heading(points, h_sub_voxels: float) -> tuple[float, np.ndarray]:
     upper = along[p[:, 1] > y0]
     skew = np.mean(upper**3) / max(np.mean(upper**2) ** 1.5, np.finfo(float).tiny) if len(upper) else 0.0
     head = along[p[:, 1] > p[:, 1].max() - HEAD_BAND * float(h_sub_voxels)].mean()
-    if skew + HEAD_WEIGHT * head / float(h_sub_voxels) < 0:
-        facing += np.pi
-    return float(np.mod(np.rad2deg(facing), 360.0)), np.array([centre[0], y0, centre[2]])
+    score = float(skew + HEAD_WEIGHT * head / float(h_sub_voxels))
+    return float(np.rad2deg(facing)), score, np.array([centre[0], y0, centre[2]])
+
+
+def continuous_headings(axes, scores, frames) -> np.ndarray:
+    """Reference headings (degrees in [0, 360)) of a sequence, each frame's sense chosen with its neighbours.
+
+    Per frame the hull gives an axis (``axes``, degrees, either sense) and a sense score (``scores``); alone,
+    the sign of the score picks the sense, and on about 1 % of frames it picks the back (module docstring).
+    A person does not turn by more than 90 degrees between two consecutive frames (at 30 frames/s that would be
+    2700 deg/s), so the senses of the whole sequence are chosen together by dynamic programming (Viterbi over
+    the two senses per frame): fewest jumps of more than 90 degrees between consecutive frames (``frames``, the
+    frame numbers; frames further apart, across a gap, are not linked) first, then the least total ``|score|``
+    of the frames whose sense goes against their own score. A flip of a few frames inside a sequence that
+    faces one way is so undone; where the axis itself turns by 90 degrees both senses jump and the scores
+    decide. Turning the world by ``phi`` turns every result by ``phi``, as each axis turns and the scores keep
+    their signs.
+    """
+    axes, scores, frames = (np.asarray(a, dtype=float) for a in (axes, scores, frames))
+    n = len(axes)
+    if n == 0:
+        return np.zeros(0)
+    headings = axes[:, None] + np.array([0.0, 180.0])  # (n, 2): the two senses
+    against = np.abs(scores)[:, None] * np.stack([scores < 0, scores >= 0], axis=1)  # cost of each sense
+    jump = 1.0 + 2.0 * np.abs(scores).sum()  # more than all the disagreements together
+    cost, back = against[0].copy(), np.zeros((n, 2), dtype=np.int64)
+    for k in range(1, n):
+        turn = np.abs((headings[k][None, :] - headings[k - 1][:, None] + 180.0) % 360.0 - 180.0)  # (prev, cur)
+        linked = frames[k] - frames[k - 1] == 1
+        step = cost[:, None] + jump * ((turn > 90.0) & linked)
+        back[k] = np.argmin(step, axis=0)
+        cost = step[back[k], [0, 1]] + against[k]
+    sense = np.empty(n, dtype=np.int64)
+    sense[-1] = int(np.argmin(cost))
+    for k in range(n - 1, 0, -1):
+        sense[k - 1] = back[k, sense[k]]
+    return np.mod(headings[np.arange(n), sense], 360.0)
 
 
 def _yaw(points, degrees: float) -> np.ndarray:

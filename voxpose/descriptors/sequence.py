@@ -3,12 +3,14 @@
 One path for the workflow (``voxpose describe``) and for a trained model on new data (``voxpose.apply.predict``).
 A frame whose hull is empty is a gap: it gets no descriptors (a (0, bins) array), never invented ones.
 With ``frame: body`` each frame is described in the frame of its hull's reference heading
-(``voxpose.descriptors.body_frame``), which is returned with the descriptors; in the world frame it is 0.
+(``voxpose.descriptors.body_frame``), which is returned with the descriptors; in the world frame it is 0. The
+headings' senses are chosen over the whole sequence (``body_frame.continuous_headings``), so the hulls are read
+twice: once for the headings, once for the descriptors.
 """
 
 import numpy as np
 
-from voxpose.descriptors.body_frame import body_voxels, reference_heading
+from voxpose.descriptors.body_frame import body_voxels, continuous_headings, heading_axis
 from voxpose.descriptors.lut import ShapeContextTable
 from voxpose.descriptors.settings import DescriptorSettings
 from voxpose.errors import VoxposeError
@@ -28,6 +30,12 @@ def describe_sequence(
     out = [np.zeros((0, table.n_bins)) for _ in range(seq.n_frames)]
     h0 = np.zeros(seq.n_frames)
     carved = np.flatnonzero(~seq.empty)
+    pivots = {}
+    if settings.frame == "body":
+        axes, scores = np.zeros(len(carved)), np.zeros(len(carved))
+        for k, f in enumerate(carved):
+            axes[k], scores[k], pivots[f] = heading_axis(seq.frame(f)[0], seq.h_sub / seq.l_res)
+        h0[carved] = continuous_headings(axes, scores, carved)
 
     def pairs():
         for f in carved:
@@ -35,8 +43,7 @@ def describe_sequence(
             if settings.frame == "world":
                 yield ijk[surface], ijk[basis]
                 continue
-            h0[f], pivot = reference_heading(ijk, seq.h_sub / seq.l_res)
-            body, body_surface, body_basis = body_voxels(ijk, n_basis, h0[f], pivot)
+            body, body_surface, body_basis = body_voxels(ijk, n_basis, h0[f], pivots[f])
             yield body[body_surface], body_basis
 
     for f, desc in zip(carved, table.describe_frames(pairs(), threads=threads), strict=True):
