@@ -59,6 +59,12 @@ HEAD_BAND = 0.12
 HEAD_WEIGHT = 10.0
 """Weight of the head's offset (in units of ``h_sub``) against the upper body's normalised skew (module docstring)."""
 
+FLIP = 135.0
+"""Degrees between the reference headings of consecutive frames counted as a front/back flip."""
+
+SWITCH = 5.0
+"""Cost of a flip between consecutive frames, in units of the sequence's median sense score."""
+
 BASIS_SEED = 0
 """Seed of the basis voxels' grid offset in the body frame (``voxels.surface.basis_indices``): the cells are
 anchored to the pivot, so they stay on the same parts of the body whichever way the world's axes point."""
@@ -102,14 +108,17 @@ def continuous_headings(axes, scores, frames) -> np.ndarray:
 
     Per frame the hull gives an axis (``axes``, degrees, either sense) and a sense score (``scores``); alone,
     the sign of the score picks the sense, and on about 1 % of frames it picks the back (module docstring).
-    A person does not turn by more than 90 degrees between two consecutive frames (at 30 frames/s that would be
-    2700 deg/s), so the senses of the whole sequence are chosen together by dynamic programming (Viterbi over
-    the two senses per frame): fewest jumps of more than 90 degrees between consecutive frames (``frames``, the
-    frame numbers; frames further apart, across a gap, are not linked) first, then the least total ``|score|``
-    of the frames whose sense goes against their own score. A flip of a few frames inside a sequence that
-    faces one way is so undone; where the axis itself turns by 90 degrees both senses jump and the scores
-    decide. Turning the world by ``phi`` turns every result by ``phi``, as each axis turns and the scores keep
-    their signs.
+    A person does not turn about between two consecutive frames (at 30 frames/s a turn of ``FLIP`` = 135
+    degrees would be 4000 deg/s), so the senses of a sequence are chosen together by dynamic programming
+    (Viterbi over the two senses per frame), minimising the total ``|score|`` of the frames whose sense goes
+    against their own score plus ``SWITCH`` x the median ``|score|`` for every turn of more than ``FLIP``
+    degrees between consecutive frames (``frames``: the frame numbers; frames further apart, across a gap,
+    are not linked). A run of a few frames voting backwards inside a sequence that faces one way is so
+    undone, while a long run of confident votes is followed. Where the axis itself swings by about 90 degrees
+    (a crouched or jumping hull whose trunk looks round), both senses turn by about 90 degrees, neither is
+    penalised and the scores decide: the generated jumps showed that a rule linking such frames locks onto the
+    wrong sense. Turning the world by ``phi`` turns every result by ``phi``, as each axis turns and the scores
+    keep their signs.
     """
     axes, scores, frames = (np.asarray(a, dtype=float) for a in (axes, scores, frames))
     n = len(axes)
@@ -117,12 +126,12 @@ def continuous_headings(axes, scores, frames) -> np.ndarray:
         return np.zeros(0)
     headings = axes[:, None] + np.array([0.0, 180.0])  # (n, 2): the two senses
     against = np.abs(scores)[:, None] * np.stack([scores < 0, scores >= 0], axis=1)  # cost of each sense
-    jump = 1.0 + 2.0 * np.abs(scores).sum()  # more than all the disagreements together
+    jump = SWITCH * max(float(np.median(np.abs(scores))), np.finfo(float).tiny)
     cost, back = against[0].copy(), np.zeros((n, 2), dtype=np.int64)
     for k in range(1, n):
         turn = np.abs((headings[k][None, :] - headings[k - 1][:, None] + 180.0) % 360.0 - 180.0)  # (prev, cur)
         linked = frames[k] - frames[k - 1] == 1
-        step = cost[:, None] + jump * ((turn > 90.0) & linked)
+        step = cost[:, None] + jump * ((turn > FLIP) & linked)
         back[k] = np.argmin(step, axis=0)
         cost = step[back[k], [0, 1]] + against[k]
     sense = np.empty(n, dtype=np.int64)
