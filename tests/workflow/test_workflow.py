@@ -364,8 +364,8 @@ def test_quick_tables_equal_the_reference_run(workflow_dir, name):
     stage): a refactoring changes no number. Text cells and integers are compared exactly, real numbers to 1e-9
     relative: OpenBLAS picks its kernels by CPU, and two CPUs sum in other orders (an AMD EPYC and the machine
     that wrote the files differ from the 11th digit on). A deliberate change of results replaces the files in
-    ``tests/workflow/reference/`` with the new run's and says why in its commit (last: descriptor.frame defaults to
-    body, issue 18, together with the MVRVM's bias-alone start and centred alignment test, issue 22)."""
+    ``tests/workflow/reference/`` with the new run's and says why in its commit (last: the body frame's reference
+    heading sense chosen over each sequence, issue 18)."""
     found = list(csv.reader((workflow_dir / f"results/tables/{name}.csv").open()))
     expected = list(csv.reader((REFERENCE / f"{name}.csv").open()))
     assert [len(row) for row in found] == [len(row) for row in expected]

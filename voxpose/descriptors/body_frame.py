@@ -38,10 +38,15 @@ carved hulls) and leaves the turned grid's contents, hence the descriptors and t
 to the grid: the rotation test of ``voxpose.apply.world_rotation`` (numbers in ``benchmarks/heading_rotation.py``).
 
 On the embedded default's Table 1 (MPPCA + MVRVM, 418 test frames) the body frame gave full body 3.18 deg against
-4.54 in the world frame and heading 21.0 against 23.1 deg RMS; the heading error is now six frames whose sense
+4.54 in the world frame and heading 21.0 against 23.1 deg RMS, the heading error then being six frames whose sense
 came out backwards (errors > 135 deg; 4.5 deg RMS on the other 412 frames, median 3.7, against 20.4 and 9.6).
 On Table 2 (1410 test frames): full body 3.75 against 6.15 deg, heading 23.4 against 37.4 deg RMS, 23 against 51
-flips (7.4 against 21.2 deg RMS without them).
+flips (7.4 against 21.2 deg RMS without them). Choosing the senses over the sequence (``continuous_headings``)
+then took the wrong senses on the default's circle6 hulls from 42 to 3 of 3578 frames, Table 1 to 2.7 deg full
+body and 4.3 deg heading, Table 2 to 3.2 deg (default run, ``snakemake --cores 2``, README tables). On the shared
+real walks the per-frame sense is wrong on 22 % (Bandai) and 27 % (CMU) of the frames in long stretches (the axis
+swings by +-30-48 deg with the gait), and over the sequence on 25 % and 23 %: the sense cue, not its temporal
+choice, fails there.
 """
 
 import numpy as np
