@@ -33,6 +33,7 @@ from voxpose.workflow_config import motion_settings
 
 JOINTS = ("lwrist", "rwrist", "lankle", "rankle", "neck", "lknee", "rknee")
 CONFIG = Path(__file__).resolve().parents[1] / "config" / "config.yaml"
+SHARED = Path(__file__).resolve().parents[2] / "shared" / "data"  # the shared data beside the checkout
 
 
 def bends(rotations: np.ndarray) -> dict[str, np.ndarray]:
@@ -124,8 +125,8 @@ def measure(paths):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--bvh", type=Path, default=Path("/work/shared/data/bvh"))
-    parser.add_argument("--library", type=Path, default=Path("/work/shared/data/bvh-library"))
+    parser.add_argument("--bvh", type=Path, default=SHARED / "bvh")
+    parser.add_argument("--library", type=Path, default=SHARED / "bvh-library")
     parser.add_argument("--generated", type=int, default=10, help="generated motions (150 frames each)")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as tmp:

@@ -26,7 +26,7 @@ from collections import defaultdict
 from pathlib import Path
 
 import numpy as np
-from end_angles import family_of, generated_files, settings
+from end_angles import SHARED, family_of, generated_files, settings
 
 from voxpose.motion import canon
 from voxpose.motion.load import load_motion
@@ -34,7 +34,6 @@ from voxpose.voxels import body
 from voxpose.voxels.landmarks import anatomical_points, landmark_scales
 from voxpose.voxels.occupancy import occupied_voxels
 
-SHARED = Path(__file__).resolve().parents[2] / "shared" / "data"
 _I = canon.INDEX
 
 
