@@ -14,7 +14,7 @@ from voxpose.voxels.settings import VoxelSettings
 INDEX = canon.INDEX
 
 
-def test_off_by_default_and_then_the_body_is_unchanged():
+def test_off_by_default_draws_no_factors():
     assert BodyVariation().draw("walk_x", 0) is None
     assert VoxelSettings.from_config({}).body_variation("walk_x", 0) is None
 

@@ -23,8 +23,8 @@ changes every descriptor, and a regressor recognises only the headings its train
    band's own skew (86.0 %), the whole hull's (72.0 %) and the feet's offset from the shins (71.5 %). A
    modulo-180 reference alone turns the frame by 180 degrees whenever the world turns by 180, and the
    regressor's front/back calls then decide the heading: the rotation test failed with it. In a sequence the
-   senses are chosen together (``continuous_headings``): a hull does not turn by more than 90 degrees from one
-   frame to the next, which undoes the frames whose own score points backwards;
+   senses are chosen together (``continuous_headings``): a hull does not turn about (by more than ``FLIP``)
+   from one frame to the next, which undoes short runs of frames whose own score points backwards;
 2. the occupied voxels are resampled on a grid turned by ``h0`` about the vertical through the band's
    centroid (nearest neighbour: a cell of the turned grid is occupied when the voxel its centre falls in
    is), surface voxels are found again on it (``voxels.surface.surface_mask``) and the basis voxels are
