@@ -221,10 +221,11 @@ def descriptor_tag(cfg: dict) -> str:
 
 def feature_tag(method: str, cfg: dict) -> str:
     """Readable directory name of a feature transformation (Section 5): MPPCA or the K-means baseline."""
+    shape = "-shape" if cfg.get("heading_sense", "shape") == "shape" else ""  # the sense: the hull's own cue
     if method == "mppca":
-        return f"mppca-K{cfg['n_components']}-q{cfg['n_latent']}"
+        return f"mppca-K{cfg['n_components']}-q{cfg['n_latent']}{shape}"
     if method == "kmeans":
-        return f"kmeans-K{cfg['n_components']}-n{cfg['kmeans_neighbours']}"
+        return f"kmeans-K{cfg['n_components']}-n{cfg['kmeans_neighbours']}{shape}"
     raise VoxposeError(f"unknown feature method {method!r} (mppca or kmeans)")
 
 

@@ -111,10 +111,14 @@ def check_voxels(model: PoseModel, seq: VoxelSequence, meta: dict, path) -> None
 
 def describe(model: PoseModel, seq: VoxelSequence) -> tuple[list, np.ndarray]:
     """3D shape contexts (B_f, bins) of every frame (empty for gaps), float32-rounded like the workflow's files,
-    in the frame the model was trained with, and (F,) the frames' reference headings (0 in the world frame)."""
+    in the frame the model was trained with, and (F,) the frames' reference headings (0 in the world frame),
+    their senses chosen as the model's features chose them (``voxpose.features.heading_sense``)."""
     settings = DescriptorSettings.from_config(model.descriptor, "model descriptor")
     descriptors, h0 = describe_sequence(seq, settings, n_basis=model.voxels["n_basis"])
-    return [d.astype(np.float32).astype(np.float64) for d in descriptors], h0
+    descriptors = [d.astype(np.float32).astype(np.float64) for d in descriptors]
+    if settings.frame != "body":
+        return descriptors, h0
+    return model.features.orient(descriptors, h0, settings.n_a, "input")
 
 
 def featurise(model: PoseModel, descriptors: list) -> tuple[np.ndarray, np.ndarray]:

@@ -17,6 +17,7 @@ import numpy as np
 
 from voxpose.apply.predict import describe, featurise, regress
 from voxpose.evaluation.metrics import angle_differences
+from voxpose.features.heading_sense import wrapped
 from voxpose.motion import canon
 from voxpose.motion.data import MotionData
 from voxpose.motion.rotations import axis_rotation
@@ -61,11 +62,6 @@ def predict_motion(model, motion: MotionData, rig: Rig, proportions=None) -> np.
     descriptors, h0 = describe(model, seq)
     features, counts = featurise(model, descriptors)
     return regress(model, features, counts > 0, h0)
-
-
-def wrapped(degrees) -> np.ndarray:
-    """Angles wrapped into [-180, 180)."""
-    return np.mod(np.asarray(degrees, dtype=float) + 180.0, 360.0) - 180.0
 
 
 def response(base: np.ndarray, turned: np.ndarray, degrees: float) -> dict:

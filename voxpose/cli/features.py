@@ -25,9 +25,9 @@ def run(args):
     motions, novelty = {}, {}
     for path in args.descriptors:
         frames, _, meta = read_descriptors(path)
+        frames, h0 = model.orient(frames, read_reference_heading(path), meta["params"]["n_a"], meta["motion"])
         features, counts = model.transform_frames(frames)
         motions[meta["motion"]] = {"features": features, "counts": counts}
-        h0 = read_reference_heading(path)
         if h0 is not None:  # body-frame descriptors: the regressor works relative to it (descriptors.body_frame)
             motions[meta["motion"]]["reference_heading"] = h0
         scores, novelty[meta["motion"]] = model.novelty(meta["motion"], frames)

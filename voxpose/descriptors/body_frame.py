@@ -46,7 +46,9 @@ then took the wrong senses on the default's circle6 hulls from 42 to 3 of 3578 f
 body and 4.3 deg heading, Table 2 to 3.2 deg (default run, ``snakemake --cores 2``, README tables). On the shared
 real walks the per-frame sense is wrong on 22 % (Bandai) and 27 % (CMU) of the frames in long stretches (the axis
 swings by +-30-48 deg with the gait), and over the sequence on 25 % and 23 %: the sense cue, not its temporal
-choice, fails there.
+choice, fails there. So with ``features.heading_sense: density`` (the default) the feature model, which knows
+the training bodies seen from the front, chooses the senses afterwards (``voxpose.features.heading_sense``); the
+cue here still turns the grid the descriptors are taken on.
 """
 
 import numpy as np

@@ -12,7 +12,8 @@ import numpy as np
 
 from voxpose.errors import VoxposeError
 from voxpose.features.frame import SoftVoteRule, kmeans_features, mppca_features
-from voxpose.features.kmeans import KMeans
+from voxpose.features.heading_sense import SENSES, choose_senses
+from voxpose.features.kmeans import KMeans, nearest_centres
 from voxpose.features.mppca import MPPCA
 from voxpose.features.novelty import NoveltyRange, frame_scores
 from voxpose.io.hdf5 import read_arrays, write_arrays
@@ -93,6 +94,29 @@ class FeatureModel:
             return None, None
         scores = frame_scores(self.estimator, frames)
         return scores, NoveltyRange(**self.meta["novelty"]).check(motion, scores)
+
+    @property
+    def heading_sense(self) -> str:
+        """How body-frame senses are chosen: the config's ``features.heading_sense`` (``density`` or ``shape``,
+        ``voxpose.features.heading_sense``); ``shape`` for models fitted before the key existed, as they were."""
+        sense = self.meta.get("params", {}).get("heading_sense", "shape")
+        if sense not in SENSES:
+            raise VoxposeError(f"features.heading_sense must be one of {', '.join(SENSES)}, got {sense!r}")
+        return sense
+
+    def log_density(self, rows: np.ndarray) -> np.ndarray:
+        """(n,) log density of descriptors (n, bins), up to a constant: the MPPCA's ``log p(t)``; for K-means
+        the isotropic mixture its soft vote assumes, ``-min_j |t - c_j|^2 / (2 s^2)`` (``s``: the vote's width)."""
+        if self.method == "mppca":
+            return self.estimator.score_samples(rows)
+        return -nearest_centres(rows, self.estimator.cluster_centers_)[1] / (2.0 * self.rule.bandwidth**2)
+
+    def orient(self, frames: list, h0, n_a: int, name: str = "motion") -> tuple[list, np.ndarray | None]:
+        """``(frames, h0)`` with body-frame senses chosen by this model's density when it was fitted with
+        ``heading_sense: density``; unchanged otherwise and in the world frame (``h0`` None)."""
+        if h0 is None or self.heading_sense != "density":
+            return frames, h0
+        return choose_senses(self.log_density, frames, h0, n_a, name)
 
     def transform(self, descriptors: np.ndarray, frame_index: np.ndarray, n_frames: int):
         """-> (features (n_frames, K), counts (n_frames,)); frames without descriptors get NaN rows."""

@@ -7,6 +7,9 @@ whole set in memory: on the real Table 1 training set (about 1.9 million descrip
 counts the rows from the files' offsets, draws the row indices exactly as ``model.subsample`` does on the
 concatenated set (they depend on the row count and the seed alone), then reads each file once, keeping only
 the drawn rows and the chosen frames: the same numbers, with one file and the drawn rows in memory.
+
+With ``turns`` (per file, the frames to turn about; ``features.heading_sense``) those frames' descriptors are
+turned by 180 degrees about the vertical as they are read, so the model learns bodies seen from the front.
 """
 
 from dataclasses import dataclass
@@ -14,9 +17,14 @@ from dataclasses import dataclass
 import h5py
 import numpy as np
 
-from voxpose.descriptors.file import read_descriptors
+from voxpose.descriptors.file import read_descriptors, read_reference_heading
+from voxpose.errors import VoxposeError
+from voxpose.features.heading_sense import true_turns, turned_frames
 from voxpose.features.model import subsample_indices
 from voxpose.features.novelty import TRAINING_FRAMES, evenly_spaced
+from voxpose.io.hdf5 import open_layout, read_meta
+from voxpose.motion import canon
+from voxpose.motion.data import read_motion
 
 
 @dataclass(frozen=True)
@@ -36,9 +44,11 @@ def _sizes(path) -> np.ndarray:
         return np.diff(f["descriptors_offsets"][()])
 
 
-def read_training_set(paths, n: int | None, seed: int, n_frames: int = TRAINING_FRAMES) -> TrainingSet:
+def read_training_set(paths, n: int | None, seed: int, n_frames: int = TRAINING_FRAMES, turns=None,
+                      n_a: int = 0) -> TrainingSet:  # fmt: skip
     """The drawn rows (``n`` of them, all when ``n`` is None or larger than the set) and ``n_frames`` evenly
-    spaced frames of the descriptor files ``paths`` taken together in order (module docstring)."""
+    spaced frames of the descriptor files ``paths`` taken together in order (module docstring); ``turns``
+    (None, or per file an (F,) bool array) names frames to turn about, ``n_a`` the descriptors' azimuth sectors."""
     sizes = [_sizes(path) for path in paths]
     frame_start = np.cumsum([0] + [len(s) for s in sizes])
     row_start = np.cumsum([0] + [int(s.sum()) for s in sizes])
@@ -49,9 +59,35 @@ def read_training_set(paths, n: int | None, seed: int, n_frames: int = TRAINING_
         lo, hi = np.searchsorted(drawn, row_start[k : k + 2])
         pick_lo, pick_hi = np.searchsorted(chosen, frame_start[k : k + 2])
         descriptors = read_descriptors(path)[0]  # every file read (and its checksum checked), one at a time
+        if turns is not None:
+            descriptors = turned_frames(descriptors, turns[k], n_a)
         if lo < hi:
             rows.append(np.concatenate([d for d in descriptors if len(d)])[drawn[lo:hi] - row_start[k]])
         frames.extend(descriptors[i] for i in chosen[pick_lo:pick_hi] - frame_start[k])
     width = rows[0].shape[1] if rows else 0
     return TrainingSet(np.concatenate(rows) if rows else np.zeros((0, width)), int(row_start[-1]), frames,
                        int(frame_start[-1]))  # fmt: skip
+
+
+def training_turns(descriptor_paths, motion_paths) -> tuple[list | None, int]:
+    """``(turns, n_a)`` for ``read_training_set``: per descriptor file, the frames whose body-frame reference
+    heading points more than 90 degrees from the true heading of its motion file (same order), and the files'
+    azimuth sectors; ``(None, 0)`` for world-frame descriptors. A missing or mismatched motion file is a
+    one-line error naming both files."""
+    if len(motion_paths) != len(descriptor_paths):
+        raise VoxposeError(f"fit-features: {len(motion_paths)} motion files for {len(descriptor_paths)} descriptor "
+                           "files; --motions takes the training motions' files in the descriptors' order")  # fmt: skip
+    turns, n_a = [], 0
+    for d_path, m_path in zip(descriptor_paths, motion_paths, strict=True):
+        h0 = read_reference_heading(d_path)
+        if h0 is None:
+            return None, 0
+        with open_layout(d_path, "descriptors") as f:
+            meta = read_meta(f)
+        motion = read_motion(m_path)
+        if motion.name != meta["motion"] or motion.n_frames != len(h0):
+            raise VoxposeError(f"{m_path}: motion {motion.name!r} ({motion.n_frames} frames) does not match the "
+                               f"descriptors {d_path} ({meta['motion']!r}, {len(h0)} frames)")  # fmt: skip
+        turns.append(true_turns(h0, motion.angles[:, canon.ANGLE_NAMES.index("root_y")]))
+        n_a = int(meta["params"]["n_a"])
+    return turns, n_a

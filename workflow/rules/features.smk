@@ -5,7 +5,8 @@
 
 rule fit_features:  # lint: no conda/container, see Snakefile
     input:
-        set_descriptors("train"),
+        descriptors=set_descriptors("train"),
+        motions=set_motions("train"),  # true headings: training frames turned to face forwards (heading_sense)
     output:
         "results/features/{train}/{rig}/{desc}/{feat}/model.h5",
     wildcard_constraints:
@@ -23,7 +24,7 @@ rule fit_features:  # lint: no conda/container, see Snakefile
         runtime=by_input(60, 0.2),
     shell:
         "voxpose fit-features --method {params.method} --params {params.cfg} --seed {params.seed}"
-        " -o {output} --log {log} --threads {threads} {input}"
+        " --motions {input.motions} -o {output} --log {log} --threads {threads} {input.descriptors}"
 
 
 rule features:  # lint: no conda/container, see Snakefile
