@@ -34,7 +34,7 @@ import numpy as np
 
 from voxpose.descriptors.body_frame import continuous_headings
 from voxpose.errors import VoxposeError
-from voxpose.features.novelty import evenly_spaced
+from voxpose.features.novelty import frame_means
 
 log = logging.getLogger(__name__)
 
@@ -74,15 +74,10 @@ def sense_evidence(log_density, frames: list, n_a: int) -> np.ndarray:
     """(F,) mean ``log p(t)`` of a frame's descriptors minus that of them turned about (module docstring),
     positive where the frame looks more like a training body as it stands; 0 for frames without descriptors.
     ``log_density`` maps rows (n, bins) to (n,) log densities."""
-    picked = [d[evenly_spaced(len(d), SENSE_DESCRIPTORS)] for d in frames]
-    sizes = np.array([len(d) for d in picked])
-    evidence = np.zeros(len(frames))
-    present = sizes > 0
-    if present.any():
-        rows = np.concatenate([d for d in picked if len(d)])
-        diff = log_density(rows) - log_density(turn_about(rows, n_a))
-        evidence[present] = np.add.reduceat(diff, np.r_[0, np.cumsum(sizes[present])[:-1]]) / sizes[present]
-    return evidence
+    as_is = frame_means(log_density, frames, SENSE_DESCRIPTORS)
+    turned = frame_means(lambda rows: log_density(turn_about(rows, n_a)), frames, SENSE_DESCRIPTORS)
+    empty = np.array([len(d) == 0 for d in frames], dtype=bool)
+    return np.where(empty, 0.0, as_is - turned)
 
 
 def choose_senses(log_density, frames: list, h0, n_a: int, name: str = "motion") -> tuple[list, np.ndarray]:

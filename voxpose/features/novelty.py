@@ -38,17 +38,24 @@ def evenly_spaced(n: int, k: int) -> np.ndarray:
     return (np.arange(k) * n) // k
 
 
+def frame_means(log_density, frames: list, per_frame: int) -> np.ndarray:
+    """(F,) mean of ``log_density`` (rows (n, bins) -> (n,)) over up to ``per_frame`` of each frame's
+    descriptors, evenly spaced through its list; NaN for a frame without descriptors. All frames' picked rows
+    go to ``log_density`` at once."""
+    picked = [d[evenly_spaced(len(d), per_frame)] for d in frames]
+    sizes = np.array([len(d) for d in picked])
+    means = np.full(len(frames), np.nan)
+    if sizes.sum():
+        density = log_density(np.concatenate([d for d in picked if len(d)]))
+        present = sizes > 0
+        means[present] = np.add.reduceat(density, np.r_[0, np.cumsum(sizes[present])[:-1]]) / sizes[present]
+    return means
+
+
 def frame_scores(mppca, frames: list) -> np.ndarray:
     """(F,) novelty score of each frame: mean ``log p(t)`` of up to ``DESCRIPTORS_PER_FRAME`` of its
     descriptors under ``mppca``; NaN for a frame without descriptors."""
-    picked = [d[evenly_spaced(len(d), DESCRIPTORS_PER_FRAME)] for d in frames]
-    sizes = np.array([len(d) for d in picked])
-    scores = np.full(len(frames), np.nan)
-    if sizes.sum():
-        density = mppca.score_samples(np.concatenate([d for d in picked if len(d)]))
-        present = sizes > 0
-        scores[present] = np.add.reduceat(density, np.r_[0, np.cumsum(sizes[present])[:-1]]) / sizes[present]
-    return scores
+    return frame_means(mppca.score_samples, frames, DESCRIPTORS_PER_FRAME)
 
 
 @dataclass(frozen=True)
