@@ -2,6 +2,7 @@
 
 import re
 
+import numpy as np
 import pytest
 import yaml
 
@@ -260,3 +261,22 @@ def test_a_rig_derived_from_the_default_rig_is_tagged_by_both_names():
     assert set(rigs) == {"main.four", "lab"}
     assert rigs["main.four"]["name"] == "four" and rigs["main.four"]["n_cameras"] == 4
     assert set(wc.claims_rigs(claims, rig | {"name": "other"})) == {"other.four", "lab"}
+
+
+@pytest.mark.parametrize("method", ["mppca", "kmeans"])
+def test_a_fit_reads_only_its_methods_feature_keys(config, method):
+    """The fit rule's parameters are ``feature_params``: a fit given only them equals the fit given the whole
+    section (so no key it reads is left out), and the other method's keys are not among them (so changing one
+    of those reruns nothing of this method)."""
+    from voxpose.features.model import FeatureModel
+
+    rows = np.random.default_rng(0).gamma(2.0, size=(300, 12))
+    cfg = dict(config["features"], n_components=8, n_latent=2, max_iter=20, fit_subsample=None)
+    params = wc.feature_params(method, cfg)
+    whole, own = (FeatureModel.fit_rows(method, rows, len(rows), c, 3) for c in (cfg, params))
+    frames = [rows[:50], rows[50:120]]
+    for a, b in zip(own.transform_frames(frames), whole.transform_frames(frames), strict=True):
+        np.testing.assert_array_equal(a, b)
+    other = {"mppca": {"kmeans_neighbours"}, "kmeans": {"n_latent", "tol"}}[method]
+    assert other <= cfg.keys() and not other & params.keys()
+    assert wc.feature_params(method, dict(cfg, **{k: 9 for k in other})) == params

@@ -66,19 +66,22 @@ def config_schema() -> dict:
     return copy.deepcopy(_schema())
 
 
-def section(*path: str, required: bool = True, drop=()) -> dict:
+def section(*path: str, required=True, drop=()) -> dict:
     """The schema of config section ``path`` (``"claims", "at"``), for parameters that take its keys.
 
-    ``required=False`` when the command has a default for every key (``voxpose describe``); ``drop``: keys
-    the section has that the command does not take (``motions.overrides``, resolved before the command).
+    ``required=False`` when the command has a default for every key (``voxpose describe``), or the keys the
+    command reads (the others stay allowed, not required: ``voxpose fit-features`` of one method); ``drop``:
+    keys the section has that the command does not take (``motions.overrides``, resolved before the command).
     """
     root = config_schema()
     sub = root
     for key in path:
         sub = sub["properties"][key]
     sub = dict(sub)
-    if not required:
+    if required is False:
         sub.pop("required", None)
+    elif required is not True:
+        sub["required"] = [k for k in sub.get("required", []) if k in required]
     sub["properties"] = {k: v for k, v in sub["properties"].items() if k not in drop}
     return sub | {"$defs": root["$defs"]}
 

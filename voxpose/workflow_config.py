@@ -13,6 +13,7 @@ from pathlib import Path
 from voxpose.config_schema import config_schema, validate
 from voxpose.descriptors.settings import DescriptorSettings, tag_number
 from voxpose.errors import VoxposeError
+from voxpose.features.fit_keys import FIT_KEYS
 
 
 def validate_config(config: dict) -> None:
@@ -217,6 +218,15 @@ def resolve_generalisation(section: dict, names, key: str, sources: dict, shippe
 def descriptor_tag(cfg: dict) -> str:
     """Readable directory name of a descriptor parameter set (Section 4)."""
     return DescriptorSettings.from_config(cfg).tag()
+
+
+def feature_params(method: str, cfg: dict) -> dict:
+    """The keys of the ``features`` section ``cfg`` that the ``method`` fit reads (``FIT_KEYS``; those present):
+    a rule passes only these, so that a key of the other method (kmeans_neighbours; n_latent, tol) reruns
+    nothing of this one."""
+    if method not in FIT_KEYS:
+        raise VoxposeError(f"unknown feature method {method!r} (mppca or kmeans)")
+    return {k: cfg[k] for k in FIT_KEYS[method] if k in cfg}
 
 
 def feature_tag(method: str, cfg: dict) -> str:

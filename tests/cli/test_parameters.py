@@ -63,6 +63,14 @@ CASES = {
     "describe n_r text": (["describe", "v.h5", "--params", '{"n_r": "four"}', "-o", "OUT.h5"], ["--params key n_r:"]),
     "fit-features tol": (["fit-features", "d.h5", "--method", "mppca", "--params", _with(FEATURES, tol=-1),
                           "-o", "OUT.h5"], ["--params key tol:"]),
+    "fit-features kmeans without its votes": (
+        ["fit-features", "d.h5", "--method", "kmeans", "--params",
+         json.dumps({k: v for k, v in FEATURES.items() if k != "kmeans_neighbours"}), "-o", "OUT.h5"],
+        ["--params: 'kmeans_neighbours' is a required property"]),
+    "fit-features mppca without its latent size": (
+        ["fit-features", "d.h5", "--method", "mppca", "--params",
+         json.dumps({k: v for k, v in FEATURES.items() if k != "n_latent"}), "-o", "OUT.h5"],
+        ["--params: 'n_latent' is a required property"]),
     "regress heading": (["regress", "f.h5", "m.h5", "--train", "m", "--params", _with(REGRESSION, heading="up"),
                          "--regressor", "OUT.h5", "--baselines", "OUT2.h5", "--fit", "OUT.json"],
                         ["--params key heading:"]),

@@ -17,7 +17,7 @@ import pytest
 import yaml
 from snakemake.utils import update_config
 
-from tests.helpers import ROOT, copy_workflow, run_voxpose, scheduled, snakemake
+from tests.helpers import ROOT, run_voxpose, scheduled, snakemake
 from voxpose import workflow_config as wc
 from voxpose.evaluation import readme_tables
 from voxpose.provenance import NOT_GIT, config_hash
@@ -26,10 +26,9 @@ pytestmark = pytest.mark.workflow  # slow: deselect with -m "not workflow"
 
 
 @pytest.fixture(scope="module")
-def workflow_dir(tmp_path_factory):
-    work = copy_workflow(tmp_path_factory.mktemp("workflow"))
-    snakemake(work)
-    return work
+def workflow_dir(quick_run):
+    """The quick run (``conftest.quick_run``); tests here restore what they edit, overrides are files of their own."""
+    return quick_run
 
 
 def test_quick_run_writes_every_artifact(workflow_dir):
@@ -280,7 +279,8 @@ def test_named_test_sets_give_one_table_row_per_set_and_method(workflow_dir):
 
 
 def test_changing_back_after_a_change_recomputes_nothing(workflow_dir):
-    changed = _override(workflow_dir, "k_changed", "features:\n  n_components: 12\n")
+    # a key of the K-means features' directory name: their fits and regressors rerun, the MPPCA ones do not
+    changed = _override(workflow_dir, "votes_changed", "features:\n  kmeans_neighbours: 4\n")
     snakemake(workflow_dir, configfiles=[changed])
     assert set(scheduled(workflow_dir)) <= ARTIFACT_RULES
     snakemake(workflow_dir)

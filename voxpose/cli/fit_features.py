@@ -4,6 +4,7 @@ import logging
 
 from voxpose.cli.common import add_output, parse_params, seed
 from voxpose.config_schema import section
+from voxpose.features.fit_keys import FIT_KEYS
 
 log = logging.getLogger("voxpose")
 
@@ -13,8 +14,8 @@ HELP = "fit MPPCA or K-means on training descriptors"
 
 def add_arguments(p):
     p.add_argument("descriptors", nargs="+", help="descriptor files (HDF5) of the training motions")
-    p.add_argument("--method", required=True, choices=["mppca", "kmeans"])
-    p.add_argument("--params", required=True, help="JSON: the config's `features` section")
+    p.add_argument("--method", required=True, choices=list(FIT_KEYS))
+    p.add_argument("--params", required=True, help="JSON: the config's `features` section (its method's keys suffice)")
     p.add_argument("--seed", type=seed, default=0)
     p.add_argument("--motions", nargs="+", default=None,
                    help="motion files (HDF5) of the training motions, in the descriptors' order: with body-frame "
@@ -28,7 +29,7 @@ def run(args):
     from voxpose.features.model import FeatureModel
     from voxpose.features.training_set import read_training_set, training_turns
 
-    params = parse_params(args.params, schema=section("features"))
+    params = parse_params(args.params, schema=section("features", required=FIT_KEYS[args.method]))
     turns, n_a = None, 0
     if params.get("heading_sense", "shape") == "density":
         if args.motions is None:

@@ -11,6 +11,7 @@ import logging
 import numpy as np
 
 from voxpose.errors import VoxposeError
+from voxpose.features.fit_keys import FIT_KEYS
 from voxpose.features.frame import SoftVoteRule, kmeans_features, mppca_features
 from voxpose.features.heading_sense import SENSES, choose_senses
 from voxpose.features.kmeans import KMeans, nearest_centres
@@ -20,7 +21,7 @@ from voxpose.io.hdf5 import read_arrays, write_arrays
 
 log = logging.getLogger(__name__)
 
-METHODS = ("mppca", "kmeans")
+METHODS = tuple(FIT_KEYS)
 
 
 def subsample_indices(n_rows: int, n: int | None, seed: int) -> np.ndarray:

@@ -103,7 +103,6 @@ RIG_SECTIONS = {RIG: config["rig"], **CLAIM_RIGS}
 DESC_CFG = config["descriptor"]
 DESC = wc.descriptor_tag(DESC_CFG)
 FEAT_CFG = config["features"]
-FEATURE_METHODS = {"mppca": FEAT_CFG, "kmeans": FEAT_CFG}
 
 
 def sweep_descriptors():
@@ -119,12 +118,9 @@ DESCRIPTORS = {wc.descriptor_tag(c): c for c in [DESC_CFG, *sweep_descriptors()]
 
 def feature_sets():
     """Feature parameter sets by tag: the main MPPCA and K-means ones and the Figure 4 K sweep."""
-    sets = {wc.feature_tag("mppca", FEAT_CFG): ("mppca", FEAT_CFG)}
-    sets[wc.feature_tag("kmeans", FEAT_CFG)] = ("kmeans", FEAT_CFG)
-    for k in config["figure4"]["n_components"]:
-        cfg = dict(FEAT_CFG, n_components=k)
-        sets[wc.feature_tag("mppca", cfg)] = ("mppca", cfg)
-    return sets
+    cfgs = [("mppca", FEAT_CFG), ("kmeans", FEAT_CFG)]
+    cfgs += [("mppca", dict(FEAT_CFG, n_components=k)) for k in config["figure4"]["n_components"]]
+    return {wc.feature_tag(method, cfg): (method, wc.feature_params(method, cfg)) for method, cfg in cfgs}
 
 
 FEATURES = feature_sets()
