@@ -10,17 +10,21 @@ def run(*args):
     assert main([str(a) for a in args]) == 0, args
 
 
-def train_model(d, *, train, test, frames, rig, voxels, descriptor, features, regression, silhouettes=None):
+def train_model(d, *, train, test, frames, rig, voxels, descriptor, features, regression, silhouettes=None,
+                bvh_dir=None):
     """Everything under folder ``d``: ``rig.json``, ``<motion>.bvh/.h5``, ``vox_`` and ``desc_<motion>.h5``,
     ``features_model.h5``, ``features.h5``, ``regressor.h5``, ``baselines.h5``, ``fit.json``,
     ``predictions.h5``, ``angles.csv``, ``summary.json`` and ``model.h5``; the test motion's silhouettes as PNG
-    folders in ``silhouettes`` when given."""
+    folders in ``silhouettes`` when given. Motions are generated (``frames`` each), or with ``bvh_dir`` read from
+    ``<bvh_dir>/<motion>.bvh`` (real motion capture, every frame)."""
     run("rig", "--params", json.dumps(rig), "-o", d / "rig.json")
     for name in (*train, test):
-        kind, _, index = name.split("_")
-        run("generate", "--kind", kind, "--index", int(index), "--frames", frames, "--seed", 5,
-            "-o", d / f"{name}.bvh")  # fmt: skip
-        run("motion", d / f"{name}.bvh", "-o", d / f"{name}.h5")
+        if bvh_dir is None:
+            kind, _, index = name.split("_")
+            run("generate", "--kind", kind, "--index", int(index), "--frames", frames, "--seed", 5,
+                "-o", d / f"{name}.bvh")  # fmt: skip
+        source = d / f"{name}.bvh" if bvh_dir is None else bvh_dir / f"{name}.bvh"
+        run("motion", source, "-o", d / f"{name}.h5")
         extra = ["--export-silhouettes", silhouettes] if name == test and silhouettes else []
         run("voxelize", d / f"{name}.h5", "--rig", d / "rig.json", "--params", json.dumps(voxels), "--seed", 7,
             "-o", d / f"vox_{name}.h5", *extra)  # fmt: skip
