@@ -14,4 +14,3 @@ def quick_run(tmp_path_factory):
     work = copy_workflow(tmp_path_factory.mktemp("workflow"))
     snakemake(work)
     return work
-
