@@ -6,7 +6,9 @@ Both frames go through ``describe_sequence`` on the same frames, interleaved, in
 frame (minimum over repeats) and the ratio are printed. The body frame adds the reference heading, the resampling
 on the turned grid, its surface and basis voxels (``voxpose.descriptors.body_frame``); the lookup-table path is
 the same. Measured on the default spiral_gen_03 (40 frames, 2 repeats, load average 9 on 2 cores): world 6.8
-ms/frame, body 12.3 ms/frame, ratio 1.81.
+ms/frame, body 12.3 ms/frame, ratio 1.81. With the grid resampled column by column (2026-11-27, 60 frames, 3
+repeats, ``taskset -c 1``, a default run on the other core, old and new main alternating twice): body 11.5 / 10.1
+-> 8.0 / 6.9 ms/frame, world 4.7 / 5.2 ms/frame.
 """
 
 import argparse

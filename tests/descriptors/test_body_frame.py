@@ -71,6 +71,31 @@ def test_body_voxels_at_90_degrees_are_the_hull_turned_on_the_grid():
     assert {tuple(v) for v in body} == {tuple(v) for v in expected}
 
 
+def resampled_cell_by_cell(ijk, h0, pivot):
+    """Brute-force reference of the turned grid: every cell of the turned hull's box (one cell of margin),
+    its centre turned back and rounded to the voxel it falls in, kept when that voxel is occupied; cells in
+    x, y, z order."""
+    pivot = np.array([pivot[0], 0.0, pivot[2]])
+    turned = yaw(ijk - pivot, -h0)
+    low, high = np.floor(turned.min(axis=0)) - 1, np.ceil(turned.max(axis=0)) + 1
+    axes = [np.arange(lo, hi + 1) for lo, hi in zip(low, high, strict=True)]
+    cells = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3).astype(np.int64)
+    source = np.rint(yaw(cells, h0) + pivot).astype(np.int64)
+    occupied = {tuple(v) for v in ijk}
+    return cells[[tuple(v) in occupied for v in source]]
+
+
+@pytest.mark.parametrize("h0", [0.0, 17.3, 90.0, 141.0, 233.7, 359.9])
+def test_body_voxels_are_the_cell_by_cell_resampling(h0):
+    """The column-wise resampling gives the cells, in the order, of turning every cell of the box back."""
+    ijk = trunk(55.0) + [7, 3, -4]
+    for pivot in [(7.0, 0.0, -4.0), (9.4, 0.0, -1.7)]:
+        body, surface, _ = body_voxels(ijk, 30, h0, pivot)
+        expected = resampled_cell_by_cell(ijk, h0, pivot)
+        np.testing.assert_array_equal(body, expected)
+        np.testing.assert_array_equal(surface, surface_mask(expected))
+
+
 def sequence(frames) -> VoxelSequence:
     """A voxel sequence of the given frames (occupied voxels), every 20th surface voxel a basis voxel."""
     surfaces = [surface_mask(f) for f in frames]

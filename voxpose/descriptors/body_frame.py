@@ -158,23 +158,33 @@ def _yaw(points, degrees: float) -> np.ndarray:
 
 def body_voxels(ijk, n_basis: int, h0: float, pivot) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A frame's voxels in its body frame: (occupied (N', 3), surface (N',) bool, basis (B, 3)) int64 on the
-    grid turned by ``h0`` degrees about the vertical through ``pivot`` (module docstring, step 2)."""
+    grid turned by ``h0`` degrees about the vertical through ``pivot`` (module docstring, step 2), in the
+    order of the turned grid's cells (x, then y, then z).
+
+    The turn leaves heights alone, so each column (x, z) of the turned grid is turned back once and takes
+    the whole column of the source grid it falls in: the same rounding of the same numbers as turning every
+    cell of the box back, hence the same voxels (tested against that), in 2.6 instead of 7.3 ms per frame
+    (728 default circle6 hulls at four headings each, one core, the machine loaded).
+    """
     ijk = np.asarray(ijk, dtype=np.int64)
     pivot = np.array([pivot[0], 0.0, pivot[2]])
     turned = _yaw(ijk - pivot, -h0)
     low = np.floor(turned.min(axis=0)).astype(np.int64) - 1
     high = np.ceil(turned.max(axis=0)).astype(np.int64) + 1
-    axes = [np.arange(lo, hi + 1) for lo, hi in zip(low, high, strict=True)]
-    cells = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
-    source = np.rint(_yaw(cells, h0) + pivot).astype(np.int64)
+    xs, ys, zs = (np.arange(lo, hi + 1) for lo, hi in zip(low, high, strict=True))
+    columns = np.stack(np.meshgrid(xs, [0], zs, indexing="ij"), axis=-1).reshape(-1, 3)
+    source = np.rint(_yaw(columns, h0) + pivot).astype(np.int64)
     origin = ijk.min(axis=0)
     size = ijk.max(axis=0) - origin + 1
-    local = source - origin
-    inside = ((local >= 0) & (local < size)).all(axis=1)
-    grid = np.zeros(size, dtype=bool)
-    grid[tuple((ijk - origin).T)] = True
-    occupied = np.zeros(len(cells), dtype=bool)
-    occupied[inside] = grid[tuple(local[inside].T)]
-    body = cells[occupied]
+    sx, sz, sy = source[:, 0] - origin[0], source[:, 2] - origin[2], ys - origin[1]
+    inside = (sx >= 0) & (sx < size[0]) & (sz >= 0) & (sz < size[2])
+    rows = (sy >= 0) & (sy < size[1])
+    local = ijk - origin
+    grid = np.zeros((size[0], size[2], size[1]), dtype=bool)  # (x, z, y): a column is contiguous
+    grid[local[:, 0], local[:, 2], local[:, 1]] = True
+    occupied = np.zeros((len(columns), len(ys)), dtype=bool)
+    occupied[np.ix_(inside, rows)] = grid[sx[inside], sz[inside]][:, sy[rows]]
+    i, j, k = np.nonzero(occupied.reshape(len(xs), len(zs), len(ys)).transpose(0, 2, 1))
+    body = np.stack([xs[i], ys[j], zs[k]], axis=1)
     surface = surface_mask(body)
     return body, surface, body[surface][basis_indices(body[surface], n_basis, BASIS_SEED)]
