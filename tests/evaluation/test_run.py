@@ -5,6 +5,7 @@ import pytest
 
 from voxpose.errors import VoxposeError
 from voxpose.evaluation.run import thin_frames
+from voxpose.regression import pose_encoding
 
 
 def test_no_thinning_when_the_frames_fit():
@@ -107,3 +108,34 @@ def test_a_saved_fit_tests_exactly_as_the_fitted_one(tmp_path):
     _, summary = alone.test(features, motions, names[2:3])
     assert list(summary["methods"]) == ["mvrvm", "mean_pose"]
     assert summary["methods"]["mvrvm"] == fitted.test(features, motions, names[2:3])[1]["methods"]["mvrvm"]
+
+
+@pytest.mark.filterwarnings("ignore::voxpose.errors.ConvergenceWarning")
+def test_kernel_ridge_chooses_its_ridge_on_held_out_training_motions(tmp_path):
+    """The baseline's ridge table is the one of whole training motions held out (as for the MVRVM's width),
+    recomputed here by direct solves; held-out random rows would give another table."""
+    from voxpose.evaluation.run import _rows, fit
+    from voxpose.regression.kernels import gaussian_kernel, holdout_split
+
+    motions, features = _planted(tmp_path, ("walk", "jog", "walk", "jog"))
+    names = sorted(motions)
+    fitted = fit(features, motions, names, CFG, seed=0)
+    ridge = fitted.baselines["kernel_ridge"]
+    x, angles, groups = _rows(features, motions, names)
+    z = fitted.pca.transform(pose_encoding.encode(angles, "vector"))
+    gram = gaussian_kernel(x, x, ridge.kernel_width_)
+
+    def table(fit_rows, val_rows):
+        out = []
+        for lam in ridge.ridges:
+            mean = z[fit_rows].mean(axis=0)
+            a = np.linalg.solve(gram[np.ix_(fit_rows, fit_rows)] + lam * np.eye(fit_rows.size), z[fit_rows] - mean)
+            err = gram[np.ix_(val_rows, fit_rows)] @ a + mean - z[val_rows]
+            out.append(np.sqrt(np.mean(np.sum(err * err, axis=1))))
+        return np.array(out)
+
+    fit_rows, val_rows = holdout_split(len(x), 0.2, groups, 0)
+    assert not set(groups[val_rows]) & set(groups[fit_rows])  # whole motions held out
+    found = np.array([rmse for _, rmse in ridge.validation_])
+    np.testing.assert_allclose(found, table(fit_rows, val_rows), rtol=1e-6)
+    assert not np.allclose(found, table(*holdout_split(len(x), 0.2, None, 0)), rtol=1e-3)
