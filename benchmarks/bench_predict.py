@@ -39,6 +39,12 @@ average 4 - 12; four runs alternating ``VOXPOSE_KERNELS=numpy`` and the default)
 4.41 -> 2.37, surface and basis 0.75 -> 0.72, 3DSC 6.06 -> 3.99, features 3.44 -> 3.51 (no kernel: one BLAS
 product), novelty 0.31 -> 0.31, root fit 1.98 -> 1.50. Still short of 100 frames/s: the features' product
 and the 3DSC votes (about 8 read-add-writes per pair in the support) are most of what is left.
+
+Body-frame descriptors resampled column by column (``descriptors.body_frame.body_voxels``; 2026-11-27, ``--model`` the
+default run's Table 2 model of c13a236 with the heading sense, two repeats, ``taskset -c 1``, nice 5, load average
+7.9 - 9.4 from other runs; the old main eddaaa2 first, then this one): 3DSC (body frame and sense included) 13.65 ->
+10.06 ms per frame, end to end 26.12 -> 21.14 ms (38.3 -> 47.3 frames/s); the other stages within the load's noise.
+On the idle machine eddaaa2 measured 21.58 ms end to end (46.3 frames/s) with 11.48 ms of 3DSC.
 """
 
 import os
