@@ -29,6 +29,11 @@ RMSE 43.47, 35.19, 32.31, 30.24 (1000 held-out rows; 323 at N = 10000). N = 1000
 118.4 CPU s, 810 MB, the same 1679 relevance vectors and RMSE. 20000: no real set is that large; on
 the stand-in (``--synthetic 21000``, 8 outputs, the same settings, the selection picks 1x) N = 10000, 20000:
 70.7, 89.8 CPU s; peak 785, 1175 MB; 1524, 1821 relevance vectors; not converged.
+With the 1000-move cap (2026-11-27, ``--select``, config/config.yaml of f4abeeb; the real training set that holds
+out CMU subject 1, 79 motions, 9759 frames x 200 MPPCA features -> 12 outputs; one BLAS thread, load average 1-2):
+N = 1000, 2000, 5000, 9759: 94.7, 97.2, 98.5, 87.9 CPU s; peak 308, 481, 527, 686 MB; 795, 1253, 1320, 1448
+relevance vectors (79.5, 62.6, 26.4, 14.8 %); none converged (1000 moves); held-out RMSE 33.26, 28.11, 25.59 (none
+left at 9759). So every real training set fits within 2 minutes on one core.
 A cProfile of the N = 10000 path (wall-clock shares under the same load; 120.8 CPU s): the width selection
 (3 fits of 1000 moves on min(N, 2000) rows) 39 % of the time, the final fit 61 %; by kind, move
 choice 45 % (exact solves of optimal_alpha 28 %, their companion-matrix eigvals 16 %), full recomputations 23 %
