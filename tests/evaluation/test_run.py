@@ -139,3 +139,6 @@ def test_kernel_ridge_chooses_its_ridge_on_held_out_training_motions(tmp_path):
     found = np.array([rmse for _, rmse in ridge.validation_])
     np.testing.assert_allclose(found, table(fit_rows, val_rows), rtol=1e-6)
     assert not np.allclose(found, table(*holdout_split(len(x), 0.2, None, 0)), rtol=1e-3)
+    # one training motion (a fixed width needs no held-out motion): the ridge is chosen on held-out rows
+    alone = fit(features, motions, names[:1], CFG | {"kernel_width": 0.5}, seed=0).baselines["kernel_ridge"]
+    assert len(alone.validation_) == len(alone.ridges)
