@@ -163,8 +163,8 @@ def body_voxels(ijk, n_basis: int, h0: float, pivot) -> tuple[np.ndarray, np.nda
 
     The turn leaves heights alone, so each column (x, z) of the turned grid is turned back once and takes
     the whole column of the source grid it falls in: the same rounding of the same numbers as turning every
-    cell of the box back, hence the same voxels (tested against that), in 2.6 instead of 7.3 ms per frame
-    (728 default circle6 hulls at four headings each, one core, the machine loaded).
+    cell of the box back, hence the same voxels (tested against that); the body frame's description fell from
+    10.1-11.5 to 6.9-8.0 ms per frame (``benchmarks/bench_body_frame.py``).
     """
     ijk = np.asarray(ijk, dtype=np.int64)
     pivot = np.array([pivot[0], 0.0, pivot[2]])
