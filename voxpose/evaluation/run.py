@@ -250,7 +250,7 @@ def fit(features: dict, motions: dict, train: list, cfg: dict, seed: int) -> Fit
         "mean_pose": MeanPose().fit(x_train, y_train),
         "nearest_neighbour": NearestNeighbour().fit(x_train, y_train),
         "kernel_ridge": KernelRidge(kernel_width=model.kernel_width_, random_state=seed).fit(
-            x_train, z_train, groups=groups if len(set(groups.tolist())) > 1 else None  # one motion: rows
+            x_train, z_train, groups=groups
         ),
     }
 

@@ -146,7 +146,7 @@ class KernelRidge(_Baseline):
     ridge : the regulariser ``lambda`` (kernel values are at most 1, so it is relative to the kernel's
         diagonal), or None: chosen from ``ridges`` on held-out training rows (lowest validation RMSE,
         ``voxpose.regression.kernels.holdout_split`` with ``validation_fraction`` and the ``groups`` given to
-        ``fit``), then refitted on all rows.
+        ``fit``; groups with a single label hold out rows, as without groups), then refitted on all rows.
     random_state : seed of the held-out split and of the median distance's row subset.
 
     Attributes
@@ -187,6 +187,8 @@ class KernelRidge(_Baseline):
             self.kernel_width_ = positive_number(self.kernel_width, "kernel width")
         gram = gaussian_kernel(x, x, self.kernel_width_)
         if self.ridge is None:
+            if groups is not None and np.unique(groups).size < 2:  # one motion: nothing whole to hold out
+                groups = None
             fit_rows, val_rows = holdout_split(x.shape[0], self.validation_fraction, groups, self.random_state)
             table = []
             for ridge in self.ridges:
