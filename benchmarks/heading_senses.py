@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from voxpose.descriptors.file import read_reference_heading
+from voxpose.descriptors.file import descriptor_headings
 from voxpose.features.heading_sense import true_turns
 from voxpose.io.hdf5 import read_per_motion
 from voxpose.motion import canon
@@ -43,7 +43,7 @@ def main(results: Path, sets: list[Path]) -> None:
                 print(f"{name}: world-frame descriptors, no heading to choose")
                 continue
             truth = read_motion(results / "motions" / f"{name}.h5").angles[:, HEADING]
-            cue = read_reference_heading(results / "descriptors" / rig / desc / f"{name}.h5")
+            cue = descriptor_headings(results / "descriptors" / rig / desc / f"{name}.h5")[0]
             carved = arrays["counts"] > 0
             row = np.array([carved.sum(), true_turns(cue, truth)[carved].sum(),
                             true_turns(arrays["reference_heading"], truth)[carved].sum()])  # fmt: skip

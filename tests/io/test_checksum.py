@@ -5,10 +5,10 @@ import h5py
 import numpy as np
 import pytest
 
-from voxpose.descriptors.file import read_descriptors, write_descriptors
+from voxpose.descriptors.file import descriptor_headings, read_descriptor_file, read_descriptors, write_descriptors
 from voxpose.errors import VoxposeError
-from voxpose.io.checksum import content_checksum
-from voxpose.io.hdf5 import file_damage, read_arrays, write_arrays
+from voxpose.io.checksum import content_checksum, seal
+from voxpose.io.hdf5 import LAYOUT_VERSION, Contents, file_damage, open_layout, read_arrays, write_arrays
 from voxpose.voxels.sequence import VoxelSequence, read_voxels, write_voxels
 
 
@@ -33,11 +33,11 @@ def _voxels(path, n_frames=6):
 
 
 def _flip_bytes(path, dataset, count=16):
-    """Invert ``count`` bytes in the middle of the first stored (compressed) chunk of ``dataset``, where gzip
-    notices; return the chunk's byte range."""
+    """Invert ``count`` bytes in the middle of the first stored (compressed) chunk of ``dataset``: the decoder
+    fails (gzip) or decodes other values (LZF), which the checksum refuses."""
     with h5py.File(path, "r") as f:
         ds = f[dataset]
-        assert ds.compression == "gzip"
+        assert ds.compression in ("gzip", "lzf")
         info = ds.id.get_chunk_info(0)
     start = info.byte_offset + info.size // 2 - count // 2
     data = bytearray(path.read_bytes())
@@ -119,3 +119,68 @@ def test_an_edited_attribute_is_refused(tmp_path):
         f.attrs["meta"] = '{"K": 17}'
     with pytest.raises(VoxposeError, match="content does not match its checksum"):
         read_arrays(path, "mppca")
+
+
+def _mixed_file(path):
+    """Groups, a vlen-string array, a scalar, an empty array and a float array spanning several hash blocks."""
+    with h5py.File(path, "w") as f:
+        f.attrs["meta"] = "{}"
+        f.create_dataset("big", data=np.arange(3 * (1 << 21), dtype=np.float64).reshape(-1, 2), compression="gzip")
+        f.create_dataset("names", data=np.array(["walk", "jump"], dtype=object), dtype=h5py.string_dtype())
+        f.create_dataset("scalar", data=2.5)
+        group = f.create_group("motions/walk")
+        group.attrs["meta"] = '{"n": 1}'
+        group.create_dataset("empty", data=np.zeros((0, 3)))
+
+
+def test_the_checksum_of_decoded_arrays_is_the_files(tmp_path):
+    """``open_layout`` hashes the arrays it decoded rather than decoding twice: the same checksum as from the
+    file (block by block, strings and scalars included), and a changed array gives another one."""
+    path = tmp_path / "m.h5"
+    _mixed_file(path)
+    with h5py.File(path, "r") as f:
+        contents = Contents.read(f)
+        assert contents["big"].nbytes > 2 * (1 << 24)  # more than two of the checksum's row blocks
+        assert content_checksum(f, contents.datasets) == content_checksum(f)
+        contents.datasets["big"][7, 1] += 1.0
+        assert content_checksum(f, contents.datasets) != content_checksum(f)
+
+
+def test_open_layout_decodes_every_dataset_once_and_reads_like_the_file(tmp_path, monkeypatch):
+    path = tmp_path / "m.h5"
+    _mixed_file(path)
+    with h5py.File(path, "r+") as f:
+        f.attrs["layout"], f.attrs["version"] = "mixed", LAYOUT_VERSION
+        seal(f)
+    reads = []
+    original = h5py.Dataset.__getitem__
+
+    def counted(ds, key):
+        reads.append(ds.name)
+        return original(ds, key)
+
+    monkeypatch.setattr(h5py.Dataset, "__getitem__", counted)
+    with open_layout(path, "mixed") as f:
+        assert sorted(reads) == ["/big", "/motions/walk/empty", "/names", "/scalar"]
+        assert sorted(f) == ["big", "motions", "names", "scalar"] and "motions/walk" in f and "nothing" not in f
+        assert [name for name, _ in f["motions"].items()] == ["walk"]
+        assert f["motions/walk"].attrs["meta"] == '{"n": 1}' and f["motions"]["walk"]["empty"].shape == (0, 3)
+        assert f["big"][()].shape == (3 << 20, 2) and f["big"][5, 1] == 11.0 and f["scalar"] == 2.5
+        assert [bytes(n).decode() for n in f["names"]] == ["walk", "jump"]
+        with pytest.raises(KeyError):
+            f["nothing"]
+
+
+def test_a_descriptor_file_is_read_whole_once_and_its_headings_alone_without_the_descriptors(tmp_path):
+    path = tmp_path / "d.h5"
+    rng = np.random.default_rng(5)
+    desc = [rng.random((n, 20)) for n in (4, 0, 3)]
+    ijk = [rng.integers(0, 60, (n, 3)) for n in (4, 0, 3)]
+    write_descriptors(path, desc, ijk, {"motion": "walk"}, reference_heading=[10.0, 200.0, 355.5])
+    read = read_descriptor_file(path)
+    assert read.reference_heading.tolist() == [10.0, 200.0, 355.5] and read.meta == {"motion": "walk"}
+    assert [len(d) for d in read.frames] == [4, 0, 3] and np.allclose(read.frames[2], desc[2], rtol=1e-6)
+    heading, meta = descriptor_headings(path)
+    assert heading.tolist() == [10.0, 200.0, 355.5] and meta == {"motion": "walk"}
+    write_descriptors(path, desc, ijk, {"motion": "walk"})  # world frame: no reference heading
+    assert read_descriptor_file(path).reference_heading is None and descriptor_headings(path)[0] is None

@@ -17,15 +17,15 @@ def add_arguments(p):
 
 
 def run(args):
-    from voxpose.descriptors.file import read_descriptors, read_reference_heading
+    from voxpose.descriptors.file import read_descriptor_file
     from voxpose.features.model import FeatureModel
     from voxpose.io.hdf5 import write_per_motion
 
     model = FeatureModel.load(args.model)
     motions, novelty = {}, {}
     for path in args.descriptors:
-        frames, _, meta = read_descriptors(path)
-        frames, h0 = model.orient(frames, read_reference_heading(path), meta["params"]["n_a"], meta["motion"])
+        frames, _, meta, h0 = read_descriptor_file(path)
+        frames, h0 = model.orient(frames, h0, meta["params"]["n_a"], meta["motion"])
         features, counts = model.transform_frames(frames)
         motions[meta["motion"]] = {"features": features, "counts": counts}
         if h0 is not None:  # body-frame descriptors: the regressor works relative to it (descriptors.body_frame)

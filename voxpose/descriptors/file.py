@@ -1,6 +1,8 @@
 """Descriptor files of one motion: its 3D shape contexts per frame and their basis voxels (Section 4), and the 2D
 shape contexts of its silhouette contours per image (the Agarwal & Triggs-style comparison)."""
 
+from typing import NamedTuple
+
 import numpy as np
 
 from voxpose.io.atomic import atomic_path
@@ -32,17 +34,35 @@ def write_descriptors(path, descriptors: list, basis_ijk: list, meta: dict, refe
         write_meta(f, meta)
 
 
-def read_descriptors(path):
-    """-> (list of (B_f, bins) float64 arrays, list of (B_f, 3) int arrays, meta)."""
+class DescriptorFile(NamedTuple):
+    """A descriptor file's content: per frame (B_f, bins) float64 descriptors and (B_f, 3) basis voxels, the
+    metadata, and the body frame's (F,) reference heading in degrees (None in the world frame)."""
+
+    frames: list
+    basis_ijk: list
+    meta: dict
+    reference_heading: np.ndarray | None
+
+
+def read_descriptor_file(path) -> DescriptorFile:
+    """Everything in a descriptor file, read (and its checksum checked) once."""
     with open_layout(path, "descriptors") as f:
         desc = [d.astype(np.float64) for d in read_ragged(f, "descriptors")]
-        return desc, read_ragged(f, "basis_ijk"), read_meta(f)
+        heading = f["reference_heading"] if "reference_heading" in f else None
+        return DescriptorFile(desc, read_ragged(f, "basis_ijk"), read_meta(f), heading)
 
 
-def read_reference_heading(path) -> np.ndarray | None:
-    """(F,) the body frame's reference heading of every frame in degrees; None for world-frame descriptors."""
-    with open_layout(path, "descriptors") as f:
-        return f["reference_heading"][()] if "reference_heading" in f else None
+def read_descriptors(path):
+    """-> (list of (B_f, bins) float64 arrays, list of (B_f, 3) int arrays, meta)."""
+    return tuple(read_descriptor_file(path)[:3])
+
+
+def descriptor_headings(path) -> tuple[np.ndarray | None, dict]:
+    """-> (the reference heading of every frame or None, meta) of a descriptor file, without reading its
+    descriptors or checking its checksum (``read_descriptor_file`` does both when the descriptors are needed)."""
+    with open_file(path, "descriptors") as f:
+        check_layout(f, path, "descriptors")
+        return (f["reference_heading"][()] if "reference_heading" in f else None), read_meta(f)
 
 
 def write_contours(path, contexts, offsets, meta: dict) -> None:

@@ -17,12 +17,11 @@ from dataclasses import dataclass
 import h5py
 import numpy as np
 
-from voxpose.descriptors.file import read_descriptors, read_reference_heading
+from voxpose.descriptors.file import descriptor_headings, read_descriptors
 from voxpose.errors import VoxposeError
 from voxpose.features.heading_sense import true_turns, turned_frames
 from voxpose.features.model import subsample_indices
 from voxpose.features.novelty import TRAINING_FRAMES, evenly_spaced
-from voxpose.io.hdf5 import open_layout, read_meta
 from voxpose.motion import canon
 from voxpose.motion.data import read_motion
 
@@ -79,11 +78,9 @@ def training_turns(descriptor_paths, motion_paths) -> tuple[list | None, int]:
                            "files; --motions takes the training motions' files in the descriptors' order")  # fmt: skip
     turns, n_a = [], 0
     for d_path, m_path in zip(descriptor_paths, motion_paths, strict=True):
-        h0 = read_reference_heading(d_path)
+        h0, meta = descriptor_headings(d_path)  # each file's checksum is checked when read_training_set reads it
         if h0 is None:
             return None, 0
-        with open_layout(d_path, "descriptors") as f:
-            meta = read_meta(f)
         motion = read_motion(m_path)
         if motion.name != meta["motion"] or motion.n_frames != len(h0):
             raise VoxposeError(f"{m_path}: motion {motion.name!r} ({motion.n_frames} frames) does not match the "

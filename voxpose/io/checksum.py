@@ -31,15 +31,17 @@ def _update_value(h, value) -> None:
         h.update(np.ascontiguousarray(arr).tobytes())
 
 
-def _update_dataset(h, ds) -> None:
+def _update_dataset(h, ds, value=None) -> None:
+    """Hash a dataset in row blocks; ``value``, when given, is what was read from it, hashed instead."""
     h.update(f"d{ds.dtype.str}{ds.shape}:".encode())
     if ds.shape is None or ds.ndim == 0:
-        _update_value(h, ds[()])
+        _update_value(h, ds[()] if value is None else value)
         return
+    rows = ds if value is None else value
     row_bytes = max(1, ds.dtype.itemsize * int(np.prod(ds.shape[1:], dtype=np.int64)))
     step = max(1, _BLOCK_BYTES // row_bytes)
     for start in range(0, ds.shape[0], step):
-        block = ds[start : start + step]
+        block = rows[start : start + step]
         if block.dtype.kind == "O":
             _update_value(h, block)
         else:
@@ -53,11 +55,13 @@ def _update_attrs(h, obj, skip=()) -> None:
             _update_value(h, obj.attrs[key])
 
 
-def content_checksum(f) -> str:
+def content_checksum(f, decoded=None) -> str:
     """``sha256:<hex>`` of everything in the open HDF5 file ``f`` but its own ``checksum`` attribute.
 
-    Reading damaged data raises what h5py raises (``OSError``, ``KeyError``, ``ValueError``); ``verify`` turns
-    that into a reason."""
+    ``decoded`` (optional) maps dataset names to their values already read from ``f`` (``hdf5.Contents``):
+    those arrays are hashed instead of being decoded a second time, in the same row blocks, so the checksum is
+    the same. Reading damaged data raises what h5py raises (``OSError``, ``KeyError``, ``ValueError``);
+    ``damage`` turns that into a reason."""
     h = hashlib.sha256()
     _update_attrs(h, f, skip=(ATTRIBUTE,))
     names = []
@@ -66,7 +70,7 @@ def content_checksum(f) -> str:
         obj = f[name]
         h.update(f"\n{name}:".encode())
         if isinstance(obj, h5py.Dataset):
-            _update_dataset(h, obj)
+            _update_dataset(h, obj, None if decoded is None else decoded[name])
         _update_attrs(h, obj)
     return "sha256:" + h.hexdigest()
 
@@ -77,14 +81,15 @@ def seal(f) -> None:
     f.attrs[ATTRIBUTE] = content_checksum(f)
 
 
-def damage(f) -> str | None:
-    """Why the open HDF5 file ``f`` does not hold what was written (a short reason), or None when it does."""
+def damage(f, decoded=None) -> str | None:
+    """Why the open HDF5 file ``f`` does not hold what was written (a short reason), or None when it does;
+    ``decoded`` as in ``content_checksum``."""
     recorded = f.attrs.get(ATTRIBUTE)
     if recorded is None:
         return "no checksum (never finished, or written by a voxpose before checksums)"
     recorded = recorded.decode() if isinstance(recorded, bytes) else str(recorded)
     try:
-        found = content_checksum(f)
+        found = content_checksum(f, decoded)
     except (OSError, KeyError, ValueError, RuntimeError) as err:
         return f"unreadable data ({str(err).splitlines()[0] if str(err) else type(err).__name__})"
     if found != recorded:
