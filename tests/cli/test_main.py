@@ -1,5 +1,8 @@
 """The ``voxpose`` command: user mistakes give one line and exit 2 with nothing left behind; stages chain."""
 
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -126,3 +129,21 @@ def test_describe_with_two_threads_equals_one_thread_and_the_reference(motion_fi
             np.testing.assert_allclose(one, ref, rtol=1e-6, atol=1e-9)  # stored as float32
             described += one.any()
     assert described == seq.n_frames
+
+
+def test_threads_are_set_before_numpy_is_imported_and_only_the_command_is_imported(tmp_path):
+    """BLAS reads its thread variables once, when numpy is imported: the CLI module imports neither numpy nor
+    any subcommand, and ``main`` sets the variables from ``--threads`` before it imports the command's module."""
+    script = (
+        "import os, sys\n"
+        "from voxpose.cli import main as cli\n"
+        "assert 'numpy' not in sys.modules and 'voxpose.cli.regress' not in sys.modules\n"
+        "status = cli.main(['check-config', 'missing.yaml', '--threads', '3'])\n"
+        "print(status, os.environ['OMP_NUM_THREADS'], os.environ['OPENBLAS_NUM_THREADS'],\n"
+        "      'voxpose.cli.check_config' in sys.modules, 'voxpose.cli.regress' in sys.modules)\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k not in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS",
+                                                               "MKL_NUM_THREADS")}  # fmt: skip
+    proc = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, env=env, capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["2", "3", "3", "True", "False"]

@@ -6,48 +6,12 @@ Each subcommand reads its inputs, calls the library and writes its outputs atomi
 """
 
 import argparse
+import importlib
 import logging
 import os
 import sys
-from collections.abc import Callable
 from dataclasses import dataclass
 
-from voxpose.cli import (
-    carve,
-    check_config,
-    claims_figure,
-    data_fetch,
-    derive,
-    describe,
-    error_over_time,
-    evaluate,
-    experiment_table,
-    export_model,
-    features,
-    figure4,
-    fit_features,
-    fit_silhouette_features,
-    gallery,
-    generalisation_table,
-    generate,
-    joint_errors,
-    motion,
-    paper_claims,
-    predict,
-    readme_tables,
-    regress,
-    render,
-    report_summary,
-    rig,
-    silhouette_contexts,
-    silhouette_features,
-    silhouettes,
-    table1,
-    table2,
-    verify,
-    voxelize,
-    voxelize_degraded,
-)
 from voxpose.cli.common import positive_integer
 from voxpose.errors import VoxposeError
 from voxpose.io.atomic import check_target
@@ -55,7 +19,8 @@ from voxpose.io.atomic import check_target
 log = logging.getLogger("voxpose")
 
 # A rule's `threads` bound BLAS/OpenMP threads too: on 2 cores, oversubscribed BLAS threads made small
-# matrix products many times slower in our measurements.
+# matrix products many times slower in our measurements. BLAS reads them once, when numpy is first imported,
+# so `main` sets them before it imports any subcommand (Snakemake sets them for its jobs as well).
 THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 
 
@@ -68,34 +33,50 @@ def _setup_logging(log_file) -> None:
 
 @dataclass(frozen=True)
 class Subcommand:
-    """One ``voxpose`` subcommand: its help line, argument builder, entry point and defining module.
+    """One ``voxpose`` subcommand: its defining module, imported only when the subcommand is run (or the whole
+    list is shown), the name of its entry point there, and its help line (None: the module's ``HELP``).
 
     ``module`` is what a workflow rule's code hash covers (the import closure of that module,
     ``voxpose.import_graph``): one module per subcommand, so a rule reruns for exactly the code it runs.
     """
 
-    help: str
-    add_arguments: Callable
-    run: Callable
     module: str
+    entry: str = "run"
+    help: str | None = None
+
+    def load(self):
+        """(help, add_arguments, run) of the subcommand, importing its module."""
+        module = importlib.import_module(self.module)
+        return self.help or module.HELP, module.add_arguments, getattr(module, self.entry)
 
 
-def _of(module) -> tuple[str, Subcommand]:
-    return module.NAME, Subcommand(module.HELP, module.add_arguments, module.run, module.__name__)
+# Each module voxpose.cli.<name> defines ``voxpose <name with - for _>`` (NAME, HELP, add_arguments, run).
+_MODULES = ("generate", "derive", "motion", "rig", "voxelize", "carve", "describe", "fit_features", "features",
+            "regress", "evaluate", "experiment_table", "generalisation_table", "table1", "table2", "paper_claims",
+            "report_summary", "readme_tables", "figure4", "joint_errors", "error_over_time", "gallery",
+            "voxelize_degraded", "silhouette_contexts", "fit_silhouette_features", "silhouette_features",
+            "export_model", "predict", "render", "silhouettes", "data_fetch", "check_config", "verify")  # fmt: skip
 
-
-SUBCOMMANDS = dict(
-    map(_of, (generate, derive, motion, rig, voxelize, carve, describe, fit_features, features, regress, evaluate,
-              experiment_table, generalisation_table, table1, table2, paper_claims, report_summary, readme_tables,
-              figure4, joint_errors, error_over_time, gallery, voxelize_degraded, silhouette_contexts,
-              fit_silhouette_features, silhouette_features, export_model, predict, render, silhouettes, data_fetch,
-              check_config, verify))
-) | {  # fmt: skip
-    "camera-figure": Subcommand("error against camera rig: transferred, retrained, A&T", claims_figure.add_arguments,
-                                claims_figure.run_cameras, claims_figure.__name__),
-    "robustness-figure": Subcommand("error against silhouette degradation", claims_figure.add_arguments,
-                                    claims_figure.run_robustness, claims_figure.__name__),
+SUBCOMMANDS = {name.replace("_", "-"): Subcommand(f"voxpose.cli.{name}") for name in _MODULES} | {
+    "camera-figure": Subcommand("voxpose.cli.claims_figure", "run_cameras",
+                                "error against camera rig: transferred, retrained, A&T"),
+    "robustness-figure": Subcommand("voxpose.cli.claims_figure", "run_robustness",
+                                    "error against silhouette degradation"),
 }  # fmt: skip
+
+
+def _limit_threads(argv) -> None:
+    """Set the thread variables from ``--threads`` in ``argv`` (default 1) unless already set; a malformed value
+    is left for the parser to refuse."""
+    threads = "1"
+    for i, word in enumerate(argv):
+        if word == "--threads" and i + 1 < len(argv):
+            threads = argv[i + 1]
+        elif word.startswith("--threads="):
+            threads = word.split("=", 1)[1]
+    if threads.isdigit() and int(threads) >= 1:
+        for var in THREAD_VARIABLES:
+            os.environ.setdefault(var, threads)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -106,12 +87,16 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"voxpose: error: {command + ': ' if command else ''}{message}\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The ``voxpose`` parser with every subcommand, or with subcommand ``only`` alone (importing only its module)."""
     parser = _Parser(prog="voxpose", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name, command in SUBCOMMANDS.items():
-        p = sub.add_parser(name, help=command.help, description=command.help)
-        command.add_arguments(p)
+        if only is not None and name != only:
+            continue
+        help_line, add_arguments, _ = command.load()
+        p = sub.add_parser(name, help=help_line, description=help_line)
+        add_arguments(p)
         p.add_argument("--log", help="also write progress to this file")
         p.add_argument(
             "--threads", type=positive_integer, default=1, help="threads for numerical libraries (default 1)"
@@ -120,12 +105,12 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    _limit_threads(argv)  # before any subcommand's module imports numpy
+    parser = build_parser(argv[0] if argv and argv[0] in SUBCOMMANDS else None)
     args = parser.parse_args(argv)
-    for var in THREAD_VARIABLES:  # before numpy is imported: BLAS reads them once
-        os.environ.setdefault(var, str(args.threads))
     _setup_logging(args.log)
-    run = SUBCOMMANDS[args.command].run
+    run = SUBCOMMANDS[args.command].load()[2]
     try:
         for option in ("output", "csv", "md", "png", "pdf", "record", "predictions", "angles"):
             target = getattr(args, option, None)
