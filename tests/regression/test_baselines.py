@@ -121,3 +121,14 @@ def test_kernel_ridge_constructor_is_keyword_only_after_the_kernel_width():
     assert KernelRidge(0.5).kernel_width == 0.5
     with pytest.raises(TypeError):
         KernelRidge(0.5, 0.1)
+
+
+def test_cholesky_solve_with_a_ridge_solves_the_shifted_system_and_leaves_its_input_alone():
+    rng = np.random.default_rng(2)
+    f = rng.standard_normal((30, 6))
+    a = f @ f.T  # rank 6 of 30: singular without the ridge
+    b = rng.standard_normal((30, 3))
+    before = a.copy()
+    x = cholesky_solve(a, b, ridge=0.5)
+    assert np.allclose(x, np.linalg.solve(a + 0.5 * np.eye(30), b), rtol=1e-10, atol=1e-12)
+    assert np.array_equal(a, before)  # factored in a copy of its own
