@@ -81,6 +81,15 @@ def seal(f) -> None:
     f.attrs[ATTRIBUTE] = content_checksum(f)
 
 
+READ_ERRORS = (OSError, KeyError, ValueError, RuntimeError)
+"""What h5py raises on data it cannot decode."""
+
+
+def unreadable(err: Exception) -> str:
+    """The short reason for data h5py could not decode."""
+    return f"unreadable data ({str(err).splitlines()[0] if str(err) else type(err).__name__})"
+
+
 def damage(f, decoded=None) -> str | None:
     """Why the open HDF5 file ``f`` does not hold what was written (a short reason), or None when it does;
     ``decoded`` as in ``content_checksum``."""
@@ -90,8 +99,8 @@ def damage(f, decoded=None) -> str | None:
     recorded = recorded.decode() if isinstance(recorded, bytes) else str(recorded)
     try:
         found = content_checksum(f, decoded)
-    except (OSError, KeyError, ValueError, RuntimeError) as err:
-        return f"unreadable data ({str(err).splitlines()[0] if str(err) else type(err).__name__})"
+    except READ_ERRORS as err:
+        return unreadable(err)
     if found != recorded:
         return "content does not match its checksum"
     return None

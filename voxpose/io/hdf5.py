@@ -14,7 +14,7 @@ import numpy as np
 from voxpose import __version__
 from voxpose.errors import VoxposeError
 from voxpose.io.atomic import atomic_path
-from voxpose.io.checksum import damage, seal
+from voxpose.io.checksum import READ_ERRORS, damage, seal, unreadable
 
 LAYOUT_VERSION = 1
 
@@ -118,8 +118,8 @@ def open_layout(path, layout: str, check=None) -> Contents:
             check(f.attrs)
         try:
             contents = Contents.read(f)
-        except (OSError, KeyError, ValueError, RuntimeError) as err:
-            contents, reason = None, f"unreadable data ({str(err).splitlines()[0] if str(err) else type(err).__name__})"
+        except READ_ERRORS as err:
+            contents, reason = None, unreadable(err)
         if contents is not None:
             reason = damage(f, contents.datasets)
         if reason is not None:
