@@ -154,8 +154,8 @@ def new_file(tmp, layout: str):
 
 def write_ragged(f, name: str, parts, dtype) -> None:
     """Frames' rows concatenated, LZF-compressed: the descriptor files are the workflow's largest and each is read
-    several times; on a 418-frame default motion (83,148 x 200 float32) LZF wrote 0.58 s and read 0.18 s against
-    gzip's 1.53 and 0.33, for 49.8 MB against 42.7 (the checksum covers values, not their encoding)."""
+    several times, and LZF decodes about twice as fast as gzip for files 16 % larger (``benchmarks/bench_read.py``
+    on a 418-frame default motion: 42.9 MB gzip, 49.8 MB LZF; the checksum covers values, not their encoding)."""
     offsets = np.zeros(len(parts) + 1, dtype=np.int64)
     offsets[1:] = np.cumsum([len(p) for p in parts])
     rows = np.concatenate(parts).astype(dtype) if len(parts) else np.zeros((0,), dtype)
