@@ -34,6 +34,10 @@ out CMU subject 1, 79 motions, 9759 frames x 200 MPPCA features -> 12 outputs; o
 N = 1000, 2000, 5000, 9759: 94.7, 97.2, 98.5, 87.9 CPU s; peak 308, 481, 527, 686 MB; 795, 1253, 1320, 1448
 relevance vectors (79.5, 62.6, 26.4, 14.8 %); none converged (1000 moves); held-out RMSE 33.26, 28.11, 25.59 (none
 left at 9759). So every real training set fits within 2 minutes on one core.
+Width-selection candidates at 500 moves instead of 1000 (9c5a9c3; ``--select --rows 2000 9759`` on the same set,
+config/config.yaml with ``selection_max_iter`` 1000 and then 500, the two side by side on 2 cores): N = 2000: 74.3
+-> 36.7 CPU s, 1253 -> 1102 relevance vectors, held-out RMSE 28.11 -> 28.39; N = 9759: 72.6 -> 37.8 CPU s, peak
+736 -> 644 MB, 1448 -> 1306 relevance vectors; the same scale (0.6) chosen.
 A cProfile of the N = 10000 path (wall-clock shares under the same load; 120.8 CPU s): the width selection
 (3 fits of 1000 moves on min(N, 2000) rows) 39 % of the time, the final fit 61 %; by kind, move
 choice 45 % (exact solves of optimal_alpha 28 %, their companion-matrix eigvals 16 %), full recomputations 23 %

@@ -1,0 +1,52 @@
+"""Memory and CPU of the kernel ridge baseline's fit (``voxpose.regression.baselines.KernelRidge``) as N grows.
+
+Usage: ``OPENBLAS_NUM_THREADS=1 python benchmarks/bench_kernel_ridge.py [--rows 2000 4000 9759] [--dims 200]
+[--outputs 9]``
+
+The baseline holds the N x N Gram matrix of its training rows and solves one Cholesky system per candidate ridge
+on the held-out split, then one on all rows: on an unthinned real training set (~10^4 rows, issue 22) each N x N
+array is 0.8 GB, so its copies set the ``regress`` job's peak memory. Rows are uniform random 200-d features,
+targets standard normal, held-out groups of 100 rows (as motions); each N is fitted in its own child process,
+whose peak resident memory (``ru_maxrss``) and CPU (user + system) are printed.
+
+Measured (6b38077's code, one BLAS thread, machine idle): N = 4000: 3.7 s, 385 MB; N = 9759: 33.2 s, 1891 MB.
+The code before 6b38077 (identity matrices added, LAPACK left to copy), timed on the same data by an ad-hoc script
+with a default run on the other core: N = 4000 4.6 s and 592 MB against 3.1 s and 384 MB after.
+"""
+
+import argparse
+import multiprocessing
+import resource
+
+import numpy as np
+
+from voxpose.regression.baselines import KernelRidge
+
+
+def _fit(n: int, dims: int, outputs: int, queue) -> None:
+    rng = np.random.default_rng(0)
+    x, y = rng.random((n, dims)), rng.standard_normal((n, outputs))
+    KernelRidge(kernel_width=2.0, random_state=0).fit(x, y, groups=np.arange(n) // 100)
+    usage = resource.getrusage(resource.RUSAGE_SELF)
+    queue.put((usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--rows", type=int, nargs="+", default=[2000, 4000, 9759])
+    parser.add_argument("--dims", type=int, default=200)
+    parser.add_argument("--outputs", type=int, default=9)
+    args = parser.parse_args()
+    context = multiprocessing.get_context("spawn")
+    print(f"{'N':>6s} {'CPU s':>7s} {'peak MB':>8s} {'N x N MB':>9s}")
+    for n in args.rows:
+        queue = context.Queue()
+        child = context.Process(target=_fit, args=(n, args.dims, args.outputs, queue))
+        child.start()
+        cpu, peak = queue.get()
+        child.join()
+        print(f"{n:6d} {cpu:7.1f} {peak:8.0f} {n * n * 8 / 2**20:9.0f}")
+
+
+if __name__ == "__main__":
+    main()
