@@ -4,13 +4,19 @@ resampled grid is the hull's, and descriptors of a hull turned on the grid are t
 import numpy as np
 import pytest
 
+from tests.helpers import walk_motion
+from voxpose import kernels
 from voxpose.descriptors.body_frame import BASIS_SEED, body_voxels, continuous_headings, reference_heading
 from voxpose.descriptors.lut import ShapeContextTable
 from voxpose.descriptors.sequence import describe_sequence
 from voxpose.descriptors.settings import DescriptorSettings
 from voxpose.errors import VoxposeError
+from voxpose.voxels.cameras import circular_rig
 from voxpose.voxels.sequence import VoxelSequence
 from voxpose.voxels.surface import basis_indices, surface_mask
+from voxpose.voxels.voxelize import voxelize_motion
+
+PATHS = ["numpy", pytest.param("numba", marks=pytest.mark.skipif(not kernels.numba_available(), reason="no numba"))]
 
 H_SUB = 60.0
 SMALL = {"n_r": 3, "n_e": 3, "n_a": 8, "r_min": 1.0, "r_max": 1 / 3}
@@ -85,15 +91,38 @@ def resampled_cell_by_cell(ijk, h0, pivot):
     return cells[[tuple(v) in occupied for v in source]]
 
 
+@pytest.mark.parametrize("path", PATHS)
 @pytest.mark.parametrize("h0", [0.0, 17.3, 90.0, 141.0, 233.7, 359.9])
-def test_body_voxels_are_the_cell_by_cell_resampling(h0):
-    """The column-wise resampling gives the cells, in the order, of turning every cell of the box back."""
+def test_body_voxels_are_the_cell_by_cell_resampling(h0, path, monkeypatch):
+    """The column-wise resampling (numpy path and compiled kernel) gives the cells, in the order, of turning
+    every cell of the box back."""
+    monkeypatch.setenv(kernels.ENV, path)
     ijk = trunk(55.0) + [7, 3, -4]
     for pivot in [(7.0, 0.0, -4.0), (9.4, 0.0, -1.7)]:
         body, surface, _ = body_voxels(ijk, 30, h0, pivot)
         expected = resampled_cell_by_cell(ijk, h0, pivot)
         np.testing.assert_array_equal(body, expected)
         np.testing.assert_array_equal(surface, surface_mask(expected))
+
+
+@pytest.mark.skipif(not kernels.numba_available(), reason="numba is not installed: numpy path only")
+def test_the_kernel_resamples_carved_hulls_as_the_numpy_path(monkeypatch):
+    """On carved walking hulls at their own and at arbitrary headings, pivots off the grid: the same voxels,
+    surface and basis, bit for bit (the kernel repeats the numpy path's arithmetic)."""
+    seq = voxelize_motion(walk_motion(6), circular_rig(), progress_every=0)
+    rng = np.random.default_rng(3)
+    for f in range(seq.n_frames):
+        ijk = seq.frame(f)[0]
+        h0, pivot = reference_heading(ijk, seq.h_sub / seq.l_res)
+        for heading in (h0, *rng.uniform(0.0, 360.0, 3), 45.0, 270.0):
+            shifted = pivot + rng.normal(scale=0.3, size=3) * [1, 0, 1]
+            out = {}
+            for path in ("numba", "numpy"):
+                monkeypatch.setenv(kernels.ENV, path)
+                out[path] = body_voxels(ijk, 40, heading, shifted)
+            for fast, slow in zip(out["numba"], out["numpy"], strict=True):
+                assert fast.dtype == slow.dtype
+                np.testing.assert_array_equal(fast, slow)
 
 
 def sequence(frames) -> VoxelSequence:

@@ -1,10 +1,23 @@
-"""Surface voxels against known shapes and a brute-force neighbour check; basis down-sampling."""
+"""Surface voxels against known shapes and a brute-force neighbour check; basis down-sampling, by the numpy path
+and the compiled kernels (``voxpose.voxels.surface_kernels``)."""
 
 import numpy as np
 import pytest
 
+from tests.helpers import walk_motion
+from voxpose import kernels
 from voxpose.errors import VoxposeError
+from voxpose.voxels import surface_kernels
+from voxpose.voxels.cameras import circular_rig
 from voxpose.voxels.surface import basis_indices, grid_sample, surface_mask
+from voxpose.voxels.voxelize import voxelize_motion
+
+needs_numba = pytest.mark.skipif(not kernels.numba_available(), reason="numba is not installed: numpy path only")
+
+
+def kernel_sample(ijk, cell, offset=(0.0, 0.0, 0.0)):
+    """The compiled kernel's grid sample, called as ``basis_indices`` calls it."""
+    return surface_kernels.grid_sample(np.asarray(ijk, dtype=np.int64), float(cell), np.asarray(offset, dtype=float))
 
 
 def cube(n, origin=(0, 0, 0)):
@@ -57,8 +70,9 @@ def test_grid_sample_one_per_cell_nearest_the_centroid():
     assert grid_sample(ijk, 4.0, offset=(2.0, 2.0, 2.0)).tolist() == [0, 2, 4, 5]
 
 
+@pytest.mark.parametrize("sample", [grid_sample, pytest.param(kernel_sample, marks=needs_numba)], ids=["numpy", "numba"])
 @pytest.mark.parametrize("cell, offset", [(3.0, (0.0, 0.0, 0.0)), (4.7, (1.3, 0.2, 3.9)), (1.0, (0.5, 0.5, 0.5))])
-def test_grid_sample_matches_brute_force(cell, offset):
+def test_grid_sample_matches_brute_force(cell, offset, sample):
     rng = np.random.default_rng(int(cell * 10))
     ijk = np.unique(rng.integers(-9, 25, size=(700, 3)), axis=0)[rng.permutation(600)]
     members = {}
@@ -71,7 +85,27 @@ def test_grid_sample_matches_brute_force(cell, offset):
         centre = ijk[rows].mean(axis=0)
         dist = [float(((ijk[n] - centre) ** 2).sum()) for n in rows]
         expected.append(rows[int(np.argmin(dist))])  # argmin: the first (lowest) index among ties
-    assert grid_sample(ijk, cell, offset).tolist() == sorted(expected)
+    assert sample(ijk, cell, offset).tolist() == sorted(expected)
+    if sample is kernel_sample:
+        count = surface_kernels.count_cells(ijk, float(cell), np.asarray(offset, dtype=float))
+        assert count == len(members)
+
+
+@needs_numba
+def test_the_kernels_pick_the_numpy_paths_basis_on_carved_hulls(monkeypatch):
+    """Every frame of a carved walk, several seeds and counts (ties included: the cells' centroids fall on
+    half-voxels): the same basis voxels, bit for bit."""
+    seq = voxelize_motion(walk_motion(5), circular_rig(), progress_every=0)
+    for f in range(seq.n_frames):
+        ijk, surface, _ = seq.frame(f)
+        for seed in (0, 1, 7):
+            for n_basis in (200, 60, 13):
+                out = {}
+                for path in ("numba", "numpy"):
+                    monkeypatch.setenv(kernels.ENV, path)
+                    out[path] = basis_indices(ijk[surface], n_basis, seed)
+                assert out["numba"].dtype == out["numpy"].dtype
+                np.testing.assert_array_equal(out["numba"], out["numpy"])
 
 
 def test_basis_count_coverage_and_determinism():

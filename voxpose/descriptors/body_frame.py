@@ -53,6 +53,8 @@ cue here still turns the grid the descriptors are taken on.
 
 import numpy as np
 
+from voxpose.descriptors import body_frame_kernels
+from voxpose.kernels import use_numba
 from voxpose.voxels.surface import basis_indices, surface_mask
 
 H_BAND = 0.25
@@ -148,10 +150,15 @@ def continuous_headings(axes, scores, frames) -> np.ndarray:
     return np.mod(headings[np.arange(n), sense], 360.0)
 
 
+def _cos_sin(degrees: float) -> np.ndarray:
+    """``(cos, sin)`` of a turn by ``degrees`` (shared by both paths, so that they turn by the same numbers)."""
+    a = np.deg2rad(degrees)
+    return np.array([np.cos(a), np.sin(a)])
+
+
 def _yaw(points, degrees: float) -> np.ndarray:
     """Points (N, 3) turned by ``degrees`` about the vertical through the origin (``Ry``: +Z towards +X)."""
-    a = np.deg2rad(degrees)
-    cos, sin = np.cos(a), np.sin(a)
+    cos, sin = _cos_sin(degrees)
     x, z = points[:, 0], points[:, 2]
     return np.stack([cos * x + sin * z, points[:, 1], -sin * x + cos * z], axis=1)
 
@@ -164,9 +171,21 @@ def body_voxels(ijk, n_basis: int, h0: float, pivot) -> tuple[np.ndarray, np.nda
     The turn leaves heights alone, so each column (x, z) of the turned grid is turned back once and takes
     the whole column of the source grid it falls in: the same rounding of the same numbers as turning every
     cell of the box back, hence the same voxels (tested against that); the body frame's description fell from
-    10.1-11.5 to 6.9-8.0 ms per frame (``benchmarks/bench_body_frame.py``).
+    10.1-11.5 to 6.9-8.0 ms per frame (``benchmarks/bench_body_frame.py``). The compiled kernel
+    (``body_frame_kernels``, selected by ``voxpose.kernels``) does the same in one loop.
     """
     ijk = np.asarray(ijk, dtype=np.int64)
+    if use_numba() and len(ijk):
+        body, surface = body_frame_kernels.turned_voxels(ijk, _cos_sin(-h0), _cos_sin(h0), float(pivot[0]),
+                                                         float(pivot[2]))  # fmt: skip
+    else:
+        body = _turned_voxels(ijk, h0, pivot)
+        surface = surface_mask(body)
+    return body, surface, body[surface][basis_indices(body[surface], n_basis, BASIS_SEED)]
+
+
+def _turned_voxels(ijk, h0: float, pivot) -> np.ndarray:
+    """The numpy path of ``body_voxels``: the occupied cells of the turned grid (N', 3), in its order."""
     pivot = np.array([pivot[0], 0.0, pivot[2]])
     turned = _yaw(ijk - pivot, -h0)
     low = np.floor(turned.min(axis=0)).astype(np.int64) - 1
@@ -185,6 +204,4 @@ def body_voxels(ijk, n_basis: int, h0: float, pivot) -> tuple[np.ndarray, np.nda
     occupied = np.zeros((len(columns), len(ys)), dtype=bool)
     occupied[np.ix_(inside, rows)] = grid[sx[inside], sz[inside]][:, sy[rows]]
     i, j, k = np.nonzero(occupied.reshape(len(xs), len(zs), len(ys)).transpose(0, 2, 1))
-    body = np.stack([xs[i], ys[j], zs[k]], axis=1)
-    surface = surface_mask(body)
-    return body, surface, body[surface][basis_indices(body[surface], n_basis, BASIS_SEED)]
+    return np.stack([xs[i], ys[j], zs[k]], axis=1)

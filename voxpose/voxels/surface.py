@@ -11,12 +11,15 @@ per frame so that the count lands near ``n_basis``: surfaces are two-dimensional
 like ``s^-2``; from ``s = sqrt(1.35 N / n_basis)`` for N surface voxels (the factor 1.35 was measured on
 carved bodies, where this first guess lands within about 10 % of ``n_basis``), secant steps
 ``s <- s sqrt(count / n_basis)`` keep the best ``s`` until the count is within 2 % (at most 8 steps).
-The same seed gives the same basis.
+The same seed gives the same basis. The compiled kernels (``surface_kernels``, selected by ``voxpose.kernels``)
+count and pick the same cells in loops.
 """
 
 import numpy as np
 
 from voxpose.errors import VoxposeError
+from voxpose.kernels import use_numba
+from voxpose.voxels import surface_kernels
 
 _STEPS = 8
 _TOLERANCE = 0.02  # stop when the count is within this fraction of n_basis
@@ -111,14 +114,17 @@ def basis_indices(surface_ijk, n_basis: int = 200, seed: int = 0) -> np.ndarray:
     if n <= n_basis:
         return np.arange(n, dtype=np.int64)
     fraction = np.random.default_rng(seed).random(3)
+    count_cells, sample = _count_cells, grid_sample
+    if use_numba():
+        count_cells, sample = surface_kernels.count_cells, surface_kernels.grid_sample
     cell = np.sqrt(_FIRST_GUESS * n / n_basis)
     best_cell, best_miss = cell, np.inf
     for _ in range(_STEPS):
-        count = _count_cells(ijk, cell, fraction * cell)
+        count = count_cells(ijk, cell, fraction * cell)
         miss = abs(count - n_basis)
         if miss < best_miss:
             best_cell, best_miss = cell, miss
         if miss <= _TOLERANCE * n_basis:
             break
         cell *= np.sqrt(count / n_basis)
-    return grid_sample(ijk, best_cell, fraction * best_cell)
+    return sample(ijk, best_cell, fraction * best_cell)
