@@ -4,10 +4,10 @@ Silhouettes of generated motions (one per motion type) are rendered into the def
 480 x 480) and kept in memory; the stages of ``voxpose.apply.predict`` then run on them, each timed over the whole
 sequence and reported per frame: carving (``Carver`` at l_res = h_sub / 60, after h_sub is measured on the
 first frame), surface and basis voxels (``surface_mask``, ``basis_indices``, 200 basis voxels), 3D shape
-contexts (``ShapeContextTable``, default descriptor), features (Eq. 5, MPPCA K = 200, q = 5), the novelty score
-(``FeatureModel.novelty``: 20 descriptors per frame scored under the MPPCA, as a workflow model does),
-regression (MVRVM, inverse PCA, heading decoding) and the root fit (``apply.root_fit``: the estimated body placed
-on the hull). The end-to-end line times the library path itself (``predict.carve`` + ``predict.predict_voxels``);
+contexts (``predict.describe``: the default descriptor in the body frame, with the hull's reference heading and
+resampling), features (``predict.featurise``: Eq. 5 with MPPCA K = 200, q = 5, the heading senses chosen by the
+MPPCA's density and the novelty score, as a workflow model does), regression (MVRVM, inverse PCA, heading
+decoding) and the root fit (``apply.root_fit``: the estimated body placed on the hull). The end-to-end line times the library path itself (``predict.carve`` + ``predict.predict_voxels``);
 reading PNG files is timed separately. Each stage and the end to end path run ``--repeats`` times; the minimum is
 reported (the least disturbed run on a loaded machine), with each stage's share of the sum of stages and the
 end-to-end rate against the 100 frames/s target.
@@ -96,7 +96,7 @@ def stand_in_model(sequences, motions, mppca_iter: int) -> PoseModel:
     descriptors = [d for seq in sequences for d in predict.describe(model, seq)[0]]
     cfg = {"n_components": 200, "n_latent": 5, "max_iter": mppca_iter, "tol": 1e-4, "fit_subsample": 20000}
     model.features = FeatureModel.fit("mppca", np.concatenate(descriptors), cfg, seed=0).with_novelty_range(descriptors)
-    x, _ = predict.featurise(model, descriptors)
+    x = predict.featurise(model, descriptors, None).features
     y = encode(np.concatenate([m.angles for m in motions]), "vector")
     model.pca = PosePCA(0.9).fit(y)
     model.mvrvm = MVRVM(kernel_width="median", random_state=0).fit(x, model.pca.transform(y))
@@ -126,7 +126,7 @@ def main() -> None:
         print(f"rig {rig.name}: {len(rig)} cameras {rig.image_size[1]}x{rig.image_size[0]}; model K = "
               f"{model.features.estimator.weights_.shape[0]}, M = {model.pca.n_components_}, "
               f"{len(model.mvrvm.relevance_)} relevance vectors; {len(motions)} x {args.frames} frames")  # fmt: skip
-        names = ("carve", "surface+basis", "3DSC", "features", "novelty", "regression", "root fit")
+        names = ("carve", "surface+basis", "3DSC", "features", "regression", "root fit")
         stages = {name: np.zeros(args.repeats) for name in names}
         total_e2e, n_frames, io = np.zeros(args.repeats), 0, 0.0
         for seq_ref in rendered:
@@ -140,13 +140,12 @@ def main() -> None:
                 stages["surface+basis"][r] += t
                 (descriptors, h0), t = cpu(predict.describe, model, seq_ref)
                 stages["3DSC"][r] += t
-                (features, counts), t = cpu(predict.featurise, model, descriptors)
+                described, t = cpu(predict.featurise, model, descriptors, h0)
                 stages["features"][r] += t
-                _, t = cpu(model.features.novelty, "bench", descriptors)
-                stages["novelty"][r] += t
-                angles, t = cpu(predict.regress, model, features, counts > 0, h0)
+                valid = described.counts > 0
+                angles, t = cpu(predict.regress, model, described.features, valid, described.heading_offsets())
                 stages["regression"][r] += t
-                _, t = cpu(fit_roots, seq_ref, angles, counts > 0, model.skeleton)
+                _, t = cpu(fit_roots, seq_ref, angles, valid, model.skeleton)
                 stages["root fit"][r] += t
                 seq, t_carve = cpu(predict.carve, model, iter(sil), rig)
                 _, t_rest = cpu(predict.predict_voxels, model, seq)

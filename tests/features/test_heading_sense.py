@@ -77,6 +77,39 @@ def test_the_density_finds_the_frames_seen_from_the_back(method):
     assert got_frames is seen and got_h0 is None  # world frame: nothing to choose
 
 
+@pytest.mark.parametrize("method, sense", [("mppca", "density"), ("mppca", "shape"), ("kmeans", "density")])
+def test_frame_features_are_orient_then_transform_then_novelty(method, sense):
+    """The fused evaluation (MPPCA with the density's senses: each descriptor's posterior and density from one
+    log joint, the turned frames evaluated again) gives what the three steps give one after the other, with
+    frames turned about, a gap, frames of varying size; the other methods run the three steps."""
+    rng = np.random.default_rng(4)
+    train = front_frames(rng, 60, per_frame=30)
+    model = FeatureModel.fit(method, np.concatenate(train), CFG | {"heading_sense": sense}, seed=0)
+    model = model.with_novelty_range(train)
+    frames = [d[: 10 + 7 * (f % 5)] for f, d in enumerate(front_frames(rng, 40, per_frame=50))]
+    frames[25] = np.zeros((0, N_R * N_E * N_A))
+    back = (np.arange(40) >= 8) & (np.arange(40) < 20) | (np.arange(40) == 33)
+    seen = [turn_about(d, N_A) if b and len(d) else d for d, b in zip(frames, back, strict=True)]
+    h0 = (30.0 + 2.0 * np.arange(40) + 180.0 * back) % 360.0
+    fused = model.frame_features(seen, h0, N_A, "seq")
+    oriented, chosen = model.orient(seen, h0, N_A, "seq")
+    features, counts = model.transform_frames(oriented)
+    scores, summary = model.novelty("seq", oriented)
+    if sense == "density":
+        assert true_turns(h0, chosen).sum() == back.sum()  # the planted turns are found and undone
+    assert all(np.array_equal(a, b) for a, b in zip(fused.frames, oriented, strict=True))
+    np.testing.assert_array_equal(fused.h0, chosen)
+    np.testing.assert_array_equal(fused.counts, counts)
+    np.testing.assert_allclose(fused.features, features, rtol=0, atol=1e-12)
+    if method == "kmeans":
+        assert fused.scores is None and fused.novelty is None and scores is None
+        return
+    np.testing.assert_allclose(fused.scores, scores, rtol=1e-12)
+    assert np.isnan(fused.scores[25]) and fused.novelty.keys() == summary.keys()
+    assert fused.novelty == pytest.approx(summary, rel=1e-12)
+    assert model.frame_features(seen, None, N_A).h0 is None  # world frame: nothing to choose
+
+
 def test_a_sequence_keeps_a_lone_frame_against_its_neighbours():
     """Per-frame evidence that points backwards on one frame of a run is overruled by continuity; a long run is
     followed (planted log densities: the evidence is the frame's first bin minus its turned first bin)."""

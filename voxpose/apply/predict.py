@@ -40,6 +40,7 @@ from voxpose.descriptors.sequence import describe_sequence
 from voxpose.descriptors.settings import DescriptorSettings
 from voxpose.errors import VoxposeError
 from voxpose.evaluation import metrics
+from voxpose.features.model import FrameFeatures
 from voxpose.motion import canon
 from voxpose.motion.output_skeleton import OutputSkeleton
 from voxpose.motion.rotations import unwrap_degrees
@@ -109,21 +110,22 @@ def check_voxels(model: PoseModel, seq: VoxelSequence, meta: dict, path) -> None
                            f"{model.voxels['n_basis']}")  # fmt: skip
 
 
-def describe(model: PoseModel, seq: VoxelSequence) -> tuple[list, np.ndarray]:
+def describe(model: PoseModel, seq: VoxelSequence) -> tuple[list, np.ndarray | None]:
     """3D shape contexts (B_f, bins) of every frame (empty for gaps), float32-rounded like the workflow's files,
-    in the frame the model was trained with, and (F,) the frames' reference headings (0 in the world frame),
-    their senses chosen as the model's features chose them (``voxpose.features.heading_sense``)."""
+    in the frame the model was trained with, and (F,) the frames' reference headings (None in the world frame),
+    their senses as the hulls give them (``featurise`` chooses them as the model's features did)."""
     settings = DescriptorSettings.from_config(model.descriptor, "model descriptor")
     descriptors, h0 = describe_sequence(seq, settings, n_basis=model.voxels["n_basis"])
     descriptors = [d.astype(np.float32).astype(np.float64) for d in descriptors]
-    if settings.frame != "body":
-        return descriptors, h0
-    return model.features.orient(descriptors, h0, settings.n_a, "input")
+    return descriptors, h0 if settings.frame == "body" else None
 
 
-def featurise(model: PoseModel, descriptors: list) -> tuple[np.ndarray, np.ndarray]:
-    """(features (F, K) with NaN rows at gaps, counts (F,)) by the model's feature transformation (Eq. 5)."""
-    return model.features.transform_frames(descriptors)
+def featurise(model: PoseModel, descriptors: list, h0, name: str = "input") -> FrameFeatures:
+    """Descriptors and reference headings from ``describe`` -> features (F, K) with NaN rows at gaps, counts
+    (F,), the novelty scores and the headings with their senses chosen as the model's features chose them
+    (``voxpose.features.heading_sense``), by the model's feature transformation (Eq. 5)."""
+    n_a = DescriptorSettings.from_config(model.descriptor, "model descriptor").n_a
+    return model.features.frame_features(descriptors, h0, n_a, name)
 
 
 def regress(model: PoseModel, features: np.ndarray, valid: np.ndarray, h0: np.ndarray) -> np.ndarray:
@@ -155,9 +157,8 @@ def predict_voxels(model: PoseModel, seq: VoxelSequence, *, frames=None, fps=Non
     when it lies far outside the training data."""
     if smooth < 0:
         raise VoxposeError(f"predict: smoothing must be >= 0 frames, got {smooth}")
-    descriptors, h0 = describe(model, seq)
-    features, counts = featurise(model, descriptors)
-    novelty = model.features.novelty(name, descriptors)[1]
+    described = featurise(model, *describe(model, seq), name)
+    features, counts, novelty = described.features, described.counts, described.novelty
     valid = counts > 0
     if not valid.any():
         raise VoxposeError("predict: no frame has a non-empty visual hull")
@@ -165,7 +166,7 @@ def predict_voxels(model: PoseModel, seq: VoxelSequence, *, frames=None, fps=Non
     if gaps.size:
         log.warning("predict: %d of %d frames have an empty hull and no estimate (gaps): %s", gaps.size,
                     len(valid), gaps.tolist())  # fmt: skip
-    angles = smooth_angles(regress(model, features, valid, h0), valid, smooth)
+    angles = smooth_angles(regress(model, features, valid, described.heading_offsets()), valid, smooth)
     frames = np.arange(seq.n_frames) if frames is None else np.asarray(frames)
     if true_angles is not None and np.shape(true_angles) != angles.shape:
         raise VoxposeError(f"predict: true angles have shape {np.shape(true_angles)}, expected {angles.shape}")

@@ -59,9 +59,8 @@ def predict_motion(model, motion: MotionData, rig: Rig, proportions=None) -> np.
     seq = voxelize_motion(motion, rig, proportions=proportions, l_res_fraction=v["l_res_fraction"],
                           min_views=v["min_views"], n_basis=v["n_basis"], seed=v["seed"],
                           progress_every=0)  # fmt: skip
-    descriptors, h0 = describe(model, seq)
-    features, counts = featurise(model, descriptors)
-    return regress(model, features, counts > 0, h0)
+    described = featurise(model, *describe(model, seq))
+    return regress(model, described.features, described.counts > 0, described.heading_offsets())
 
 
 def response(base: np.ndarray, turned: np.ndarray, degrees: float) -> dict:

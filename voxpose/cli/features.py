@@ -25,15 +25,14 @@ def run(args):
     motions, novelty = {}, {}
     for path in args.descriptors:
         frames, _, meta, h0 = read_descriptor_file(path)
-        frames, h0 = model.orient(frames, h0, meta["params"]["n_a"], meta["motion"])
-        features, counts = model.transform_frames(frames)
-        motions[meta["motion"]] = {"features": features, "counts": counts}
-        if h0 is not None:  # body-frame descriptors: the regressor works relative to it (descriptors.body_frame)
-            motions[meta["motion"]]["reference_heading"] = h0
-        scores, novelty[meta["motion"]] = model.novelty(meta["motion"], frames)
-        if scores is not None:
-            motions[meta["motion"]]["novelty"] = scores
-        log.info("features %s: %d frames, %d gaps", meta["motion"], len(frames), int((counts == 0).sum()))
+        out = model.frame_features(frames, h0, meta["params"]["n_a"], meta["motion"])
+        motions[meta["motion"]] = {"features": out.features, "counts": out.counts}
+        if out.h0 is not None:  # body-frame descriptors: the regressor works relative to it (descriptors.body_frame)
+            motions[meta["motion"]]["reference_heading"] = out.h0
+        novelty[meta["motion"]] = out.novelty
+        if out.scores is not None:
+            motions[meta["motion"]]["novelty"] = out.scores
+        log.info("features %s: %d frames, %d gaps", meta["motion"], len(frames), int((out.counts == 0).sum()))
     meta = {"method": model.method, "model": model.meta}
     if "novelty" in model.meta:
         meta["novelty_by_motion"] = novelty

@@ -64,7 +64,7 @@ def _frame_average(votes, descriptors, frame_index, n_frames, n_bins, chunk_size
     return features, counts
 
 
-def mppca_features(model, descriptors, frame_index, n_frames, *, chunk_size=DEFAULT_CHUNK_SIZE):
+def mppca_features(model, descriptors, frame_index, n_frames, *, chunk_size=DEFAULT_CHUNK_SIZE, density=False):
     """Eq. 5 of Sun et al. (2006): each frame's mean posterior ``p(i | t_n)`` under a fitted MPPCA.
 
     Parameters
@@ -78,6 +78,8 @@ def mppca_features(model, descriptors, frame_index, n_frames, *, chunk_size=DEFA
     n_frames : int
     chunk_size : int
         Descriptors passed to ``model.predict_proba`` at once.
+    density : bool
+        Also return each descriptor's log density.
 
     Returns
     -------
@@ -85,12 +87,26 @@ def mppca_features(model, descriptors, frame_index, n_frames, *, chunk_size=DEFA
         ``x_i = (1 / N_sc) sum_n p(i | t_n)``; rows sum to one; NaN rows for frames without descriptors.
     counts : ndarray of int, shape (n_frames,)
         ``N_sc``, the number of descriptors of each frame (0 marks a gap).
+    log_density : ndarray, shape (N,)
+        Only with ``density``: each descriptor's ``log p(t_n)``, from the same evaluation as its posterior
+        (the novelty score and the heading sense read it instead of evaluating the mixture again).
     """
     check_fitted(model, "components_")
     descriptors = as_rows(descriptors, "descriptors", model.n_features_in_, dtype=None)
     frame_index = _check_frames(frame_index, descriptors.shape[0], n_frames)
     chunk = integer(chunk_size, "chunk_size")
-    return _frame_average(model.predict_proba, descriptors, frame_index, n_frames, model.weights_.shape[0], chunk)
+    n_components = model.weights_.shape[0]
+    if not density:
+        return _frame_average(model.predict_proba, descriptors, frame_index, n_frames, n_components, chunk)
+    log_density, done = np.empty(descriptors.shape[0]), 0
+
+    def votes(rows):
+        nonlocal done
+        proba, log_density[done : done + len(rows)] = model.proba_and_score(rows)
+        done += len(rows)
+        return proba
+
+    return (*_frame_average(votes, descriptors, frame_index, n_frames, n_components, chunk), log_density)
 
 
 @dataclass(frozen=True)

@@ -70,21 +70,24 @@ def turned_frames(frames: list, turns, n_a: int) -> list:
     return [turn_about(d, n_a) if t and len(d) else d for d, t in zip(frames, turns, strict=True)]
 
 
-def sense_evidence(log_density, frames: list, n_a: int) -> np.ndarray:
+def sense_evidence(log_density, frames: list, n_a: int, as_is=None) -> np.ndarray:
     """(F,) mean ``log p(t)`` of a frame's descriptors minus that of them turned about (module docstring),
     positive where the frame looks more like a training body as it stands; 0 for frames without descriptors.
-    ``log_density`` maps rows (n, bins) to (n,) log densities."""
-    as_is = frame_means(log_density, frames, SENSE_DESCRIPTORS)
+    ``log_density`` maps rows (n, bins) to (n,) log densities; ``as_is``, the first term when the caller has
+    it already (``frame_means`` of the frames' own log densities)."""
+    if as_is is None:
+        as_is = frame_means(log_density, frames, SENSE_DESCRIPTORS)
     turned = frame_means(lambda rows: log_density(turn_about(rows, n_a)), frames, SENSE_DESCRIPTORS)
     empty = np.array([len(d) == 0 for d in frames], dtype=bool)
     return np.where(empty, 0.0, as_is - turned)
 
 
-def choose_senses(log_density, frames: list, h0, n_a: int, name: str = "motion") -> tuple[list, np.ndarray]:
+def choose_senses(log_density, frames: list, h0, n_a: int, name: str = "motion", as_is=None) -> tuple[list, np.ndarray]:
     """``(frames, h0)`` of a sequence with each frame's sense chosen by the density (module docstring): frames
-    turned about where the chosen reference heading differs from ``h0`` by 180 degrees."""
+    turned about where the chosen reference heading differs from ``h0`` by 180 degrees. ``as_is``: as in
+    ``sense_evidence``."""
     h0 = np.asarray(h0, dtype=float)
-    evidence = sense_evidence(log_density, frames, n_a)
+    evidence = sense_evidence(log_density, frames, n_a, as_is)
     carved = np.flatnonzero([len(d) > 0 for d in frames])
     chosen = h0.copy()
     chosen[carved] = continuous_headings(h0[carved], evidence[carved], carved)

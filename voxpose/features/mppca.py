@@ -567,7 +567,14 @@ class MPPCA:
 
     def predict_proba(self, X):
         """Responsibilities ``p(i | t_n)`` of each component for each row of ``X`` (n, d): shape (n, K)."""
+        return self.proba_and_score(X)[0]
+
+    def proba_and_score(self, X):
+        """``(predict_proba(X), score_samples(X))`` from one evaluation of the log joint: the responsibilities
+        are normalised by the log density anyway."""
         X, proj, chunk = self._scoring_setup(X)
-        return np.concatenate(
-            [_exp(lj - _logsumexp_rows(lj)[:, None]) for _, lj, _, _ in _log_joint_chunks(X, proj, chunk)]
-        )
+        proba, score = [], []
+        for _, lj, _, _ in _log_joint_chunks(X, proj, chunk):
+            score.append(_logsumexp_rows(lj))
+            proba.append(_exp(lj - score[-1][:, None]))
+        return np.concatenate(proba), np.concatenate(score)
