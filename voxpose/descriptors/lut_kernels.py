@@ -55,7 +55,8 @@ class FoldedTable:
     with fewer votes are padded with votes of weight 0 into bins ``n_bins + slot`` (a fixed count of votes
     per row: a loop of varying length mispredicts its end at most pairs, measured 1.4x slower).
     ``flip[signs, bin]`` reflects a bin by the signs of a pair's offset (bit 1 for x < 0, 2 for y < 0, 4 for
-    z < 0) and keeps the padding bins. ``y_reach[cx]`` is the largest ``|y|`` of the support at ``cx`` and
+    z < 0) and keeps the padding bins; ``signed_bins[signs, o]`` are row ``o``'s bins so reflected (8 x the
+    bins' 37 KB at the paper's settings; measured 8 % faster than reflecting each vote). ``y_reach[cx]`` is the largest ``|y|`` of the support at ``cx`` and
     ``z_reach[cx, |y|]`` the largest ``|z|`` (-1 for none): the kernel visits only surface voxels within them.
     """
 
@@ -69,6 +70,7 @@ class FoldedTable:
     extra_bins: np.ndarray
     extra_weights: np.ndarray
     flip: np.ndarray  # (8, n_bins + WIDTH)
+    signed_bins: np.ndarray  # (8, R, WIDTH): flip[signs][bins], so that the loop reads a pair's bins directly
     y_reach: np.ndarray  # (size[0],) int64
     z_reach: np.ndarray  # (size[0], radius + 1) int64
 
@@ -124,10 +126,12 @@ def folded_table(geometry: BinGeometry) -> FoldedTable:
     bins[row[head], slot[head]] = votes.indices[head]
     weights[row[head], slot[head]] = votes.data[head]
     extra_start = np.concatenate([[0], np.cumsum(np.maximum(count - WIDTH, 0))])
+    flips = _flips(geometry).astype(dtype)
     table = FoldedTable(radius=radius, fold_x=fold_x, size=(len(x_axis), radius + 1, radius + 1), cube=cube,
                         bins=bins.astype(dtype), weights=weights, extra_start=extra_start,
                         extra_bins=votes.indices[~head].astype(dtype), extra_weights=votes.data[~head],
-                        flip=_flips(geometry).astype(dtype), **_reach(cube, (len(x_axis), radius + 1, radius + 1)))  # fmt: skip
+                        flip=flips, signed_bins=np.ascontiguousarray(flips[:, bins]).astype(dtype),
+                        **_reach(cube, (len(x_axis), radius + 1, radius + 1)))  # fmt: skip
     _check(table, geometry)
     return table
 
@@ -175,13 +179,13 @@ def soft_votes(geometry: BinGeometry, surface: np.ndarray, basis: np.ndarray) ->
     t = folded_table(geometry)
     if len(surface) == 0 or len(basis) == 0:
         return np.zeros((len(basis), geometry.n_bins))
-    out = _soft_votes(surface, basis, t.radius, t.fold_x, t.size[1], t.size[2], t.cube, t.bins, t.weights,
+    out = _soft_votes(surface, basis, t.radius, t.fold_x, t.size[1], t.size[2], t.cube, t.signed_bins, t.weights,
                       t.extra_start, t.extra_bins, t.extra_weights, t.flip, t.y_reach, t.z_reach)  # fmt: skip
     return out[:, : geometry.n_bins]
 
 
 @jit
-def _soft_votes(surface, basis, radius, fold_x, size_y, size_z, cube, bins, weights, extra_start, extra_bins,
+def _soft_votes(surface, basis, radius, fold_x, size_y, size_z, cube, signed_bins, weights, extra_start, extra_bins,
                 extra_weights, flip, y_reach, z_reach):  # fmt: skip  # pragma: no cover (compiled)
     out = np.zeros((basis.shape[0], flip.shape[1]))
     n = surface.shape[0]
@@ -216,7 +220,7 @@ def _soft_votes(surface, basis, radius, fold_x, size_y, size_z, cube, bins, weig
                     continue
                 signs = 2 * (y < 0) + 4 * (z < 0) + (fold_x and dx < 0)
                 for v in range(WIDTH):
-                    out[b, flip[signs, bins[row, v]]] += weights[row, v]
+                    out[b, signed_bins[signs, row, v]] += weights[row, v]
                 for v in range(extra_start[row], extra_start[row + 1]):
                     out[b, flip[signs, extra_bins[v]]] += extra_weights[v]
     return out
