@@ -47,6 +47,16 @@ default run's Table 2 model of c13a236 with the heading sense, two repeats, ``ta
 On the idle machine (load average 0.4, ``taskset -c 0``, the same model): eddaaa2 21.58 ms end to end (46.3
 frames/s) with 11.48 ms of 3DSC; 44b3a5f 17.10 ms (58.5 frames/s) with 7.97 ms of 3DSC (carve 2.44, surface and
 basis 0.81, features 3.69, novelty 0.33, root fit 1.62).
+
+Compiled body frame and basis voxels, the shape context kernel's narrower visit, and one evaluation of the MPPCA
+per descriptor for the features, the heading senses and the novelty (2026-11-28, ``--model`` the default run's
+Table 2 model of 9c5a9c3, ``--repeats 3``, ``taskset -c 0``, every other process stopped, old = d61f547 and new
+alternating twice; the novelty stage is now part of features): end to end 15.42 / 15.91 -> 11.57 / 11.58 ms per
+frame, 64.8 / 62.9 -> 86.4 / 86.4 frames/s (0.86 x the target); 3DSC (with the senses before) 7.26 / 7.48 -> 3.54 /
+3.73 (without them), features + novelty 3.75 / 3.67 -> 4.18 / 4.20 (with the senses), surface and basis 0.66 /
+0.68 -> 0.27 / 0.28, carve 1.98 / 1.97 -> 1.89 / 2.02, root fit 1.30 / 1.29 -> 1.27 / 1.30. What is left is the
+features' (240 x 201) @ (201 x 1200) product per frame, the shape context votes (about 1.5 million per frame)
+and the carving.
 """
 
 import os
