@@ -38,6 +38,11 @@ Width-selection candidates at 500 moves instead of 1000 (9c5a9c3; ``--select --r
 config/config.yaml with ``selection_max_iter`` 1000 and then 500, the two side by side on 2 cores): N = 2000: 74.3
 -> 36.7 CPU s, 1253 -> 1102 relevance vectors, held-out RMSE 28.11 -> 28.39; N = 9759: 72.6 -> 37.8 CPU s, peak
 736 -> 644 MB, 1448 -> 1306 relevance vectors; the same scale (0.6) chosen.
+The whole table at the current defaults (2026-11-28, d366896's config/config.yaml: selection 500 moves, final fit
+1000; the same set, ``--select --rows 1000 2000 5000 9759``, one BLAS thread, every other process stopped):
+N = 1000, 2000, 5000, 9759: 37.7, 51.8, 45.9, 48.6 CPU s; peak 252, 418, 486, 657 MB; 748, 1102, 1186, 1306
+relevance vectors (74.8, 55.1, 23.7, 13.4 %); none converged (1000 moves); held-out RMSE 33.40, 28.39, 25.72 (none
+left at 9759); scale 0.6 chosen at every N. A 10,000-row real training set fits in under a minute on one core.
 A cProfile of the N = 10000 path (wall-clock shares under the same load; 120.8 CPU s): the width selection
 (3 fits of 1000 moves on min(N, 2000) rows) 39 % of the time, the final fit 61 %; by kind, move
 choice 45 % (exact solves of optimal_alpha 28 %, their companion-matrix eigvals 16 %), full recomputations 23 %
