@@ -175,10 +175,8 @@ def _folded_index(offsets: np.ndarray, table: FoldedTable) -> np.ndarray:
 
 def soft_votes(geometry: BinGeometry, surface: np.ndarray, basis: np.ndarray) -> np.ndarray:
     """Soft-vote descriptors (M, n_bins) at basis voxels (M, 3) over surface voxels (N, 3, in lexicographic
-    order), both int64."""
+    order), both int64 and non-empty (``ShapeContextTable.describe`` refuses empty sets)."""
     t = folded_table(geometry)
-    if len(surface) == 0 or len(basis) == 0:
-        return np.zeros((len(basis), geometry.n_bins))
     out = _soft_votes(surface, basis, t.radius, t.fold_x, t.size[1], t.size[2], t.cube, t.signed_bins, t.weights,
                       t.extra_start, t.extra_bins, t.extra_weights, t.flip, t.y_reach, t.z_reach)  # fmt: skip
     return out[:, : geometry.n_bins]

@@ -143,7 +143,7 @@ class FeatureModel:
         sense evidence and the novelty score come from the same log joint: every descriptor is evaluated as it
         stands (posterior and density together), the evidence's turned descriptors on their own, and only the
         frames then turned about once more. Otherwise the three run one after the other. Either way the result
-        is theirs (``tests/features/test_model.py``); the fused path evaluates 240 rather than 300 descriptors
+        is theirs (``tests/features/test_heading_sense.py``); the fused path evaluates 240 rather than 300 descriptors
         per frame at the default settings (200 basis voxels, 40 for the sense, 20 for the novelty).
         """
         if self.method != "mppca" or h0 is None or self.heading_sense != "density":
