@@ -7,10 +7,11 @@ first frame), surface and basis voxels (``surface_mask``, ``basis_indices``, 200
 contexts (``predict.describe``: the default descriptor in the body frame, with the hull's reference heading and
 resampling), features (``predict.featurise``: Eq. 5 with MPPCA K = 200, q = 5, the heading senses chosen by the
 MPPCA's density and the novelty score, as a workflow model does), regression (MVRVM, inverse PCA, heading
-decoding) and the root fit (``apply.root_fit``: the estimated body placed on the hull). The end-to-end line times the library path itself (``predict.carve`` + ``predict.predict_voxels``);
-reading PNG files is timed separately. Each stage and the end to end path run ``--repeats`` times; the minimum is
-reported (the least disturbed run on a loaded machine), with each stage's share of the sum of stages and the
-end-to-end rate against the 100 frames/s target.
+decoding) and the root fit (``apply.root_fit``: the estimated body placed on the hull). The end-to-end line
+times the library path itself (``predict.carve`` + ``predict.predict_voxels``); reading PNG files is timed
+separately. Each stage and the end to end path run ``--repeats`` times; the minimum is reported (the least
+disturbed run on a loaded machine), with each stage's share of the sum of stages and the end-to-end rate
+against the 100 frames/s target.
 
 The model: ``--model FILE`` (a workflow's model file); by default a stand-in fitted here on the benchmark's
 own frames (MPPCA K = 200, q = 5 with ``--mppca-iter`` EM iterations and a novelty range, pose PCA and MVRVM as

@@ -39,7 +39,8 @@ def run(configfile: str, cores: int, extra: str) -> tuple[float, float]:
         for item in ("Snakefile", "workflow", "config", "profiles"):
             src = ROOT / item
             (shutil.copytree if src.is_dir() else shutil.copy)(src, Path(tmp) / item)
-        cmd = [sys.executable, "-m", "snakemake", "--cores", str(cores), "--configfile", configfile, *shlex.split(extra)]
+        cmd = [sys.executable, "-m", "snakemake", "--cores", str(cores), "--configfile", configfile,
+               *shlex.split(extra)]  # fmt: skip
         env = os.environ | {"PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}"}  # voxpose
         start = time.perf_counter()
         proc = subprocess.Popen(cmd, cwd=tmp, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)

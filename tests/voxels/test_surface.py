@@ -70,7 +70,8 @@ def test_grid_sample_one_per_cell_nearest_the_centroid():
     assert grid_sample(ijk, 4.0, offset=(2.0, 2.0, 2.0)).tolist() == [0, 2, 4, 5]
 
 
-@pytest.mark.parametrize("sample", [grid_sample, pytest.param(kernel_sample, marks=needs_numba)], ids=["numpy", "numba"])
+@pytest.mark.parametrize("sample", [grid_sample, pytest.param(kernel_sample, marks=needs_numba)],
+                         ids=["numpy", "numba"])  # fmt: skip
 @pytest.mark.parametrize("cell, offset", [(3.0, (0.0, 0.0, 0.0)), (4.7, (1.3, 0.2, 3.9)), (1.0, (0.5, 0.5, 0.5))])
 def test_grid_sample_matches_brute_force(cell, offset, sample):
     rng = np.random.default_rng(int(cell * 10))

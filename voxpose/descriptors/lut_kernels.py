@@ -56,8 +56,9 @@ class FoldedTable:
     per row: a loop of varying length mispredicts its end at most pairs, measured 1.4x slower).
     ``flip[signs, bin]`` reflects a bin by the signs of a pair's offset (bit 1 for x < 0, 2 for y < 0, 4 for
     z < 0) and keeps the padding bins; ``signed_bins[signs, o]`` are row ``o``'s bins so reflected (8 x the
-    bins' 37 KB at the paper's settings; measured 8 % faster than reflecting each vote). ``y_reach[cx]`` is the largest ``|y|`` of the support at ``cx`` and
-    ``z_reach[cx, |y|]`` the largest ``|z|`` (-1 for none): the kernel visits only surface voxels within them.
+    bins' 37 KB at the paper's settings; measured 8 % faster than reflecting each vote). ``y_reach[cx]`` is the
+    largest ``|y|`` of the support at ``cx`` and ``z_reach[cx, |y|]`` the largest ``|z|`` (-1 for none): the kernel
+    visits only surface voxels within them.
     """
 
     radius: int
