@@ -25,6 +25,16 @@ log = logging.getLogger(__name__)
 METHODS = tuple(FIT_KEYS)
 
 
+def _frame_index(frames: list) -> np.ndarray:
+    """(N,) the frame of each row of ``np.concatenate(frames)``."""
+    return np.repeat(np.arange(len(frames)), [len(d) for d in frames])
+
+
+def _per_frame(values: np.ndarray, counts: np.ndarray) -> list:
+    """``values`` (N,) of concatenated frames split back into the frames (``counts`` rows each)."""
+    return np.split(values, np.cumsum(counts)[:-1])
+
+
 class FrameFeatures(NamedTuple):
     """A sequence's frames oriented and featurised (``FeatureModel.frame_features``)."""
 
@@ -151,13 +161,13 @@ class FeatureModel:
             features, counts = self.transform_frames(frames)
             return FrameFeatures(frames, h0, features, counts, *self.novelty(name, frames))
         features, counts, density = self._features_and_density(frames)
-        density = np.split(density, np.cumsum(counts)[:-1])  # per frame
+        density = _per_frame(density, counts)
         as_is = frame_means(np.asarray, density, SENSE_DESCRIPTORS)
         oriented, chosen = choose_senses(self.log_density, frames, h0, n_a, name, as_is=as_is)
         turned = np.flatnonzero(true_turns(h0, chosen) & (counts > 0))
         if turned.size:
             features[turned], _, again = self._features_and_density([oriented[f] for f in turned])
-            for f, d in zip(turned, np.split(again, np.cumsum(counts[turned])[:-1]), strict=True):
+            for f, d in zip(turned, _per_frame(again, counts[turned]), strict=True):
                 density[f] = d
         scores, summary = None, None
         if "novelty" in self.meta:
@@ -167,8 +177,7 @@ class FeatureModel:
 
     def _features_and_density(self, frames: list) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(features (F, K), counts (F,), log densities of every descriptor (N,)) of an MPPCA model."""
-        frame_index = np.repeat(np.arange(len(frames)), [len(d) for d in frames])
-        return mppca_features(self.estimator, np.concatenate(frames), frame_index, len(frames), density=True)
+        return mppca_features(self.estimator, np.concatenate(frames), _frame_index(frames), len(frames), density=True)
 
     def transform(self, descriptors: np.ndarray, frame_index: np.ndarray, n_frames: int):
         """-> (features (n_frames, K), counts (n_frames,)); frames without descriptors get NaN rows."""
@@ -178,8 +187,7 @@ class FeatureModel:
 
     def transform_frames(self, descriptors: list) -> tuple[np.ndarray, np.ndarray]:
         """``transform`` of a list with each frame's (B_f, bins) descriptors (empty for gaps)."""
-        frame_index = np.repeat(np.arange(len(descriptors)), [len(d) for d in descriptors])
-        return self.transform(np.concatenate(descriptors), frame_index, len(descriptors))
+        return self.transform(np.concatenate(descriptors), _frame_index(descriptors), len(descriptors))
 
     def to_arrays(self) -> tuple[dict, dict]:
         """(arrays, meta) that ``from_arrays`` turns back into this model (the model file's contents): the
