@@ -149,6 +149,8 @@ def new_file(tmp, layout: str):
         seal(f)
 
 
+_CHUNK_BYTES = 1 << 20
+
 # --- ragged per-frame arrays: rows of all frames concatenated, frame f = rows[offsets[f]:offsets[f+1]] ------
 
 
@@ -159,8 +161,21 @@ def write_ragged(f, name: str, parts, dtype) -> None:
     offsets = np.zeros(len(parts) + 1, dtype=np.int64)
     offsets[1:] = np.cumsum([len(p) for p in parts])
     rows = np.concatenate(parts).astype(dtype) if len(parts) else np.zeros((0,), dtype)
-    f.create_dataset(name, data=rows, compression="lzf", chunks=True if rows.size else None)
+    f.create_dataset(name, data=rows, compression="lzf", chunks=row_chunks(rows.shape, rows.dtype.itemsize))
     f.create_dataset(f"{name}_offsets", data=offsets)
+
+
+def row_chunks(shape: tuple, itemsize: int, target_bytes: int = _CHUNK_BYTES) -> tuple | None:
+    """HDF5 chunks of whole rows, about ``target_bytes`` each (None for an empty array: no chunks).
+
+    h5py's automatic chunks of a (56597, 200) float32 descriptor array are (1769, 7): 7 columns wide, so reading
+    it whole gathers ~930 chunks column-slab by column-slab. Whole-row chunks read in 0.11 s instead of 0.19 s
+    (a 282-frame default motion, 45 MB of descriptors; same values, same file size within 1 %).
+    """
+    if not np.prod(shape):
+        return None
+    row_bytes = itemsize * int(np.prod(shape[1:]))
+    return (max(1, min(shape[0], target_bytes // row_bytes)), *shape[1:])
 
 
 def read_ragged(f, name: str) -> list:
