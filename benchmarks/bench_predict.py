@@ -107,6 +107,7 @@ def stand_in_model(sequences, motions, mppca_iter: int) -> PoseModel:
     descriptors = [d for seq in sequences for d in predict.describe(model, seq)[0]]
     cfg = {"n_components": 200, "n_latent": 5, "max_iter": mppca_iter, "tol": 1e-4, "fit_subsample": 20000}
     model.features = FeatureModel.fit("mppca", np.concatenate(descriptors), cfg, seed=0).with_novelty_range(descriptors)
+    model.features.estimator.compiled = True  # as load_model sets it for predict
     x = predict.featurise(model, descriptors, None).features
     y = encode(np.concatenate([m.angles for m in motions]), "vector")
     model.pca = PosePCA(0.9).fit(y)

@@ -102,7 +102,9 @@ def test_predict_from_voxels_carries_truth_and_renders(trained, tmp_path):
     np.testing.assert_array_equal(prediction.true_angles, workflow["true"])
     assert prediction.fps == 30.0 and meta["source"] == {"voxels": str(d / f"vox_{TEST}.h5")}
     # the model's output skeleton scaled to the subject's measured height (tests/apply/test_root_fit.py)
-    model_skeleton = load_model(d / "model.h5").skeleton
+    model = load_model(d / "model.h5")
+    assert model.features.estimator.compiled  # predict's posteriors by the kernel, the workflow's by numpy: same angles
+    model_skeleton = model.skeleton
     factor = prediction.voxels.h_sub / skeleton_height(model_skeleton)
     np.testing.assert_allclose(skeleton.offsets, model_skeleton.offsets * factor, rtol=1e-12)
     np.testing.assert_allclose(skeleton.end_lengths, model_skeleton.end_lengths * factor, rtol=1e-12)

@@ -366,3 +366,35 @@ def test_projection_is_cached_per_parameter_set():
     fresh = MPPCA.from_arrays(*model.to_arrays())
     np.testing.assert_array_equal(model.predict_proba(X), fresh.predict_proba(X))
     assert not np.array_equal(model.predict_proba(X), first)
+
+
+@pytest.mark.parametrize("n_latent", [0, 2])
+def test_compiled_posterior_equals_dense_covariances_and_the_numpy_path(monkeypatch, n_latent):
+    """``compiled=True``: the same densities and responsibilities as the dense reference and the numpy path (to
+    rounding: it divides by the row's sum of exp instead of subtracting log p), across chunks, on rows far from
+    every component (most terms underflow to exactly 0) and near them; ``VOXPOSE_KERNELS=numpy`` falls back."""
+    X = overlapping_clusters(5)
+    model = MPPCA(3, n_latent=n_latent, max_iter=4, random_state=0, chunk_size=41).fit(X)
+    far = X[:50] * 40.0  # hundreds of nats between components: exact zeros in the responsibilities
+    rows = np.concatenate([X, far])
+    reference = dense_log_joint(rows, *params(model))
+    log_p = logsumexp(reference, axis=1)
+    compiled = MPPCA.from_arrays(*model.to_arrays())
+    compiled.compiled = True
+    proba, score = compiled.proba_and_score(rows)
+    np.testing.assert_allclose(score, log_p, rtol=1e-10)
+    np.testing.assert_allclose(proba, np.exp(reference - log_p[:, None]), atol=1e-10)
+    numpy_proba, numpy_score = model.proba_and_score(rows)
+    np.testing.assert_allclose(proba, numpy_proba, rtol=1e-12, atol=1e-300)
+    np.testing.assert_allclose(score, numpy_score, rtol=1e-12)
+    np.testing.assert_array_equal(proba == 0.0, numpy_proba == 0.0)  # the same terms underflow
+    assert np.count_nonzero(proba[len(X) :] == 0.0) > 0
+    np.testing.assert_allclose(compiled.score_samples(rows), numpy_score, rtol=1e-12)
+    proj = model._projection()
+    kernel_chunks = mppca_module._posterior_chunks(rows, proj, 41, True)
+    numpy_chunks = mppca_module._posterior_chunks(rows, proj, 41)
+    for kernel_chunk, numpy_chunk in zip(kernel_chunks, numpy_chunks, strict=True):  # x1, resp, log p, latent, sqdist
+        for a, b in zip(kernel_chunk, numpy_chunk, strict=True):
+            np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-300)
+    monkeypatch.setenv("VOXPOSE_KERNELS", "numpy")
+    np.testing.assert_array_equal(compiled.proba_and_score(rows)[0], numpy_proba)

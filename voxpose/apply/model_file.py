@@ -88,10 +88,13 @@ def load_model(path) -> PoseModel:
     try:
         pca, mvrvm = regressor_from_arrays(*groups["regressor"])
         skeleton = groups["skeleton"][0]
+        features = FeatureModel.from_arrays(*groups["feature_model"])
+        if features.method == "mppca":
+            features.estimator.compiled = True  # predict loads numba for carving anyway (MPPCA, ``compiled``)
         return PoseModel(
             voxels=meta["voxels"],
             descriptor=meta["descriptor"],
-            features=FeatureModel.from_arrays(*groups["feature_model"]),
+            features=features,
             pca=pca,
             mvrvm=mvrvm,
             heading=groups["regressor"][1]["heading"],

@@ -28,7 +28,9 @@ import scipy.linalg
 import scipy.sparse
 
 from voxpose.errors import ConvergenceWarning, VoxposeError
+from voxpose.features import mppca_kernels
 from voxpose.features.kmeans import DEFAULT_CHUNK_SIZE, KMeans, mean_feature_variance
+from voxpose.kernels import use_numba
 from voxpose.validation import as_rows, check_fitted, integer
 
 log = logging.getLogger(__name__)
@@ -142,6 +144,32 @@ def _log_joint_chunks(X, proj, chunk_size):
         yield x1, log_joint, latent, sqdist
 
 
+def _posterior_chunks(X, proj, chunk_size, compiled=False):
+    """Yield ``(x1, resp, log_p, latent, sqdist)`` per chunk of rows of ``X``: the responsibilities (c, K), the log
+    density of each row (c,), and ``_log_joint_chunks``'s x1, latent and sqdist.
+
+    With ``compiled`` (and the kernels enabled, :mod:`voxpose.kernels`), one compiled pass per row after the product
+    (:mod:`voxpose.features.mppca_kernels`); otherwise the numpy path: log-sum-exp, then ``exp(log joint - log p)``.
+    """
+    if not (compiled and proj.stack.dtype == np.float64 and use_numba()):
+        for x1, log_joint, latent, sqdist in _log_joint_chunks(X, proj, chunk_size):
+            log_p = _logsumexp_rows(log_joint)
+            yield x1, _exp(log_joint - log_p[:, None]), log_p, latent, sqdist
+        return
+    n_components = proj.means.shape[0]
+    n_latent = proj.chol.shape[1]
+    for start in range(0, X.shape[0], chunk_size):
+        rows = X[start : start + chunk_size]
+        x1 = np.ones((rows.shape[0], rows.shape[1] + 1))
+        np.subtract(rows, proj.offset, out=x1[:, :-1])
+        prod = x1 @ proj.stack
+        resp, sqdist = np.empty((len(x1), n_components)), np.empty((len(x1), n_components))
+        log_p = np.empty(len(x1))
+        sqnorm = np.einsum("nd,nd->n", x1[:, :-1], x1[:, :-1])
+        mppca_kernels.posterior(prod, sqnorm, proj.noise_variance, proj.log_norm, n_latent, resp, log_p, sqdist)
+        yield x1, resp, log_p, prod[:, n_components:].reshape(len(x1), n_components, n_latent), sqdist
+
+
 def _exp(a):
     """``np.exp(a)`` bit for bit, evaluated only where it can be non-zero (``a > _EXP_ZERO``, or NaN).
 
@@ -199,9 +227,8 @@ def _accumulate(X, proj, chunk_size):
     moments = np.zeros((n_components * (n_latent + 1), n_features + 1))
     sqdist_sum = np.zeros(n_components)
     total = 0.0
-    for x1, log_joint, latent, sqdist in _log_joint_chunks(X, proj, chunk_size):
-        log_p = _logsumexp_rows(log_joint)
-        chunk_moments, chunk_sqdist = _chunk_moments(x1, _exp(log_joint - log_p[:, None]), latent, sqdist)
+    for x1, resp, log_p, latent, sqdist in _posterior_chunks(X, proj, chunk_size):
+        chunk_moments, chunk_sqdist = _chunk_moments(x1, resp, latent, sqdist)
         moments += chunk_moments
         sqdist_sum += chunk_sqdist
         total += float(log_p.sum())
@@ -357,6 +384,12 @@ class MPPCA:
         from driving the likelihood to infinity.
     random_state : int, numpy Generator or None
         Seed of the k-means++ draws and of the (q = 0) re-seeding directions.
+    compiled : bool
+        ``score_samples``, ``predict_proba`` and ``proba_and_score`` after the product run the compiled kernel
+        (:mod:`voxpose.features.mppca_kernels`, when :mod:`voxpose.kernels` allows it): the same numbers to
+        rounding. Off by default: it saves about 5 us per row, which repays numba's start-up (about 0.5 s per
+        process) only after ~10^5 rows, so it is for processes that load numba anyway and evaluate frame after
+        frame: ``voxpose predict`` (``voxpose.apply.model_file.load_model`` turns it on). ``fit`` never uses it.
 
     Attributes
     ----------
@@ -407,6 +440,7 @@ class MPPCA:
         chunk_size=DEFAULT_CHUNK_SIZE,
         min_noise_variance=1e-6,
         random_state=None,
+        compiled=False,
     ):
         self.n_components = n_components
         self.n_latent = n_latent
@@ -416,6 +450,7 @@ class MPPCA:
         self.chunk_size = chunk_size
         self.min_noise_variance = min_noise_variance
         self.random_state = random_state
+        self.compiled = compiled
 
     def _check_params(self, n_samples, n_features):
         """Validate the hyper-parameters against the data shape; return the chunk size."""
@@ -559,6 +594,8 @@ class MPPCA:
     def score_samples(self, X):
         """Log density ``log p(t_n)`` of each row of ``X`` (n, d) under the mixture: shape (n,)."""
         X, proj, chunk = self._scoring_setup(X)
+        if self.compiled:
+            return np.concatenate([log_p for _, _, log_p, _, _ in _posterior_chunks(X, proj, chunk, True)])
         return np.concatenate([_logsumexp_rows(lj) for _, lj, _, _ in _log_joint_chunks(X, proj, chunk)])
 
     def score(self, X):
@@ -574,7 +611,7 @@ class MPPCA:
         are normalised by the log density anyway."""
         X, proj, chunk = self._scoring_setup(X)
         proba, score = [], []
-        for _, lj, _, _ in _log_joint_chunks(X, proj, chunk):
-            score.append(_logsumexp_rows(lj))
-            proba.append(_exp(lj - score[-1][:, None]))
+        for _, resp, log_p, _, _ in _posterior_chunks(X, proj, chunk, self.compiled):
+            proba.append(resp)
+            score.append(log_p)
         return np.concatenate(proba), np.concatenate(score)
