@@ -7,7 +7,8 @@ only the largest process, not its rule. This script reads the jobs of a finished
 printed (``printshellcmds``: each job's rule, input, output, log and shell command), picks per rule the job with
 the most input bytes, and runs its command again in ``SCRATCH/<rule>/`` with every input a symlink to the run's
 file (outputs go to the scratch folder, the run is not touched) under ``/usr/bin/time``. Prints per rule: input
-MB, peak resident MB of the job and its wall seconds; the profiles' ``mem_mb`` requests (workflow/rules/common.smk,
+MB, peak resident MB of the job, the memory the run asked for it (``mem_mb`` from the log's ``resources:`` line)
+and its wall seconds; the profiles' ``mem_mb`` requests (workflow/rules/common.smk,
 profiles/README.md) come from such numbers. The commands run with the installed voxpose, so they measure the
 current code on the run's inputs.
 """
@@ -23,12 +24,13 @@ FIELDS = ("input", "output", "log")
 
 
 def read_jobs(log: Path) -> list:
-    """Jobs of a Snakemake log: dicts with ``rule``, ``input``, ``output``, ``log`` (lists) and ``cmd``."""
+    """Jobs of a Snakemake log: dicts with ``rule``, ``input``, ``output``, ``log`` (lists), ``cmd`` and ``mem_mb``
+    (the job's memory request as the log printed it, None when it printed none)."""
     jobs, job = [], None
     for line in log.read_text().splitlines():
         start = re.match(r"^(?:local)?rule (\w+):", line)
         if start:
-            job = {"rule": start.group(1), **{field: [] for field in FIELDS}}
+            job = {"rule": start.group(1), "mem_mb": None, **{field: [] for field in FIELDS}}
             jobs.append(job)
             continue
         text = line.strip()
@@ -37,6 +39,9 @@ def read_jobs(log: Path) -> list:
         for field in FIELDS:
             if text.startswith(f"{field}:"):
                 job[field] = [p.strip() for p in text[len(field) + 1 :].split(",") if p.strip()]
+        request = re.match(r"resources:.*\bmem_mb=(\d+)", text)
+        if request:
+            job["mem_mb"] = int(request.group(1))
         if text.startswith("Shell command:"):
             job["cmd"] = text[len("Shell command:") :].strip()
     return [job for job in jobs if "cmd" in job]
@@ -81,12 +86,13 @@ def main():
     args = parser.parse_args()
     skip, only = set(filter(None, args.skip.split(","))), set(filter(None, args.only.split(",")))
     best = largest(read_jobs(args.log), args.run)
-    print(f"{'rule':30s} {'input MB':>10s} {'peak MB':>9s} {'wall s':>8s}  status")
+    print(f"{'rule':30s} {'input MB':>10s} {'peak MB':>9s} {'asked MB':>9s} {'wall s':>8s}  status")
     for rule, (size, job) in sorted(best.items(), key=lambda item: item[1][0]):
         if rule in skip or (only and rule not in only):
             continue
         status, peak, wall = measure(job, args.run, args.scratch / rule)
-        print(f"{rule:30s} {size / 2**20:10.1f} {peak:9.0f} {wall:8.1f}  {status}", flush=True)
+        asked = "-" if job["mem_mb"] is None else job["mem_mb"]
+        print(f"{rule:30s} {size / 2**20:10.1f} {peak:9.0f} {asked:>9} {wall:8.1f}  {status}", flush=True)
 
 
 if __name__ == "__main__":

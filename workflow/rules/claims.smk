@@ -24,7 +24,7 @@ rule silhouette_contexts:  # lint: no conda/container, see Snakefile
     group: "per_motion"  # batched into one cluster job per few motions (profiles/slurm)
     threads: 1
     resources:
-        mem_mb=by_frames(300, 0.4),  # renders like voxelize; 2D shape contexts ~60 ms per frame of 6 views
+        mem_mb=by_frames(300, 0.8),  # profiles/README.md; 2D shape contexts ~60 ms per frame of 6 views
         runtime=by_frames(5, 0.005),
     shell:
         "voxpose silhouette-contexts {input.motion} --rig {input.rig} --params {params.cfg}"
@@ -48,7 +48,7 @@ rule fit_silhouette_features:  # lint: no conda/container, see Snakefile
         "results/logs/fit_silhouette_features/{train}/{rig}/{desc}/{feat}.log",
     threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
     resources:  # measured: 111-143 MB, 1.1-1.4 s CPU on 11-22 MB
-        mem_mb=by_input(500, 0.2),  # one motion's contexts at a time (profiles/README.md)
+        mem_mb=by_input(300, 0.1),  # one motion's contexts at a time (profiles/README.md)
         runtime=by_input(5, 0.02),
     shell:
         "voxpose fit-silhouette-features --params {params.cfg} --cameras {params.cameras} --seed {params.seed}"
@@ -70,7 +70,7 @@ rule silhouette_features:  # lint: no conda/container, see Snakefile
         "results/logs/silhouette_features/{train}/{rig}/{desc}/{feat}/{set}.log",
     threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
     resources:  # measured: 97-103 MB (flat), 0.9-1.5 s CPU on 6-22 MB
-        mem_mb=by_input(300, 1),
+        mem_mb=by_input(300, 0.1),  # profiles/README.md
         runtime=by_input(5, 0.02),
     shell:
         "voxpose silhouette-features {input.model} {input.contexts} -o {output} --log {log} --threads {threads}"
@@ -124,7 +124,7 @@ rule transfer_features:  # lint: no conda/container, see Snakefile
         "results/logs/transfer_features/{voxel_set}/{train}/{rig}/{desc}/{feat}.log",
     threads: 1
     resources:  # measured: 95 MB (flat), 0.9 s CPU on 2 MB
-        mem_mb=by_input(300, 1),
+        mem_mb=by_input(450, 1),  # profiles/README.md
         runtime=by_input(5, 0.05),
     shell:
         "voxpose features {input.model} -o {output} --log {log} --threads {threads} {input.descriptors}"

@@ -14,7 +14,7 @@ rule describe:  # lint: no conda/container, see Snakefile
     group: "per_motion"  # batched into one cluster job per few motions (profiles/slurm)
     threads: 1  # motions are described side by side; `voxpose describe --threads N` pools frames instead
     resources:
-        mem_mb=by_frames(300, 2),
+        mem_mb=by_frames(300, 1.2),  # profiles/README.md
         runtime=by_frames(5, 0.005),
     shell:
         "voxpose describe {input} --params {params.cfg} -o {output} --log {log} --threads {threads}"

@@ -20,7 +20,7 @@ rule fit_features:  # lint: no conda/container, see Snakefile
         "results/logs/fit_features/{train}/{rig}/{desc}/{feat}.log",
     threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
     resources:
-        mem_mb=by_input(1000, 1),  # one descriptor file at a time (profiles/README.md)
+        mem_mb=by_input(700, 0.2),  # one descriptor file at a time (profiles/README.md)
         runtime=by_input(60, 0.2),
     shell:
         "voxpose fit-features --method {params.method} --params {params.cfg} --seed {params.seed}"
@@ -41,7 +41,7 @@ rule features:  # lint: no conda/container, see Snakefile
         "results/logs/features/{train}/{rig}/{desc}/{feat}/{set}.log",
     threads: 1  # BLAS threads do not pay here (common.smk, "Threads")
     resources:
-        mem_mb=by_input(500, 1),
+        mem_mb=by_input(550, 0.3),  # profiles/README.md
         runtime=by_input(10, 0.1),
     shell:
         "voxpose features {input.model} -o {output} --log {log} --threads {threads} {input.descriptors}"

@@ -46,7 +46,7 @@ rule evaluate:  # lint: no conda/container, see Snakefile
         "results/logs/evaluate/{train}/{rig}/{desc}/{feat}/{set}.log",
     threads: 1
     resources:
-        mem_mb=by_input(500, 20),
+        mem_mb=by_input(300, 3),  # profiles/README.md
         runtime=by_input(5, 1),
     shell:
         "voxpose evaluate {input.features} --regressor {input.regressor} --baselines {input.baselines}"
