@@ -53,14 +53,21 @@ def integer(value, name: str, minimum: int = 1) -> int:
     return int(value)
 
 
-def squared_distances(a, b) -> np.ndarray:
+def squared_distances(a, b, a_norms=None) -> np.ndarray:
     """Squared Euclidean distances (n, m), float64, between the rows of ``a`` (n, d) and ``b`` (m, d).
 
-    ``|a|^2 + |b|^2 - 2 a.b`` (one matrix product), with the round-off negatives clipped at zero.
+    ``|a|^2 + |b|^2 - 2 a.b`` (one matrix product), with the round-off negatives clipped at zero. ``a_norms``:
+    ``row_norms(a)`` when the caller has it already (the same numbers, without an (n, d) temporary per call).
     """
     a, b = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
-    d2 = np.sum(a * a, axis=1)[:, None] + np.sum(b * b, axis=1)[None, :] - 2.0 * (a @ b.T)
+    a_norms = row_norms(a) if a_norms is None else a_norms
+    d2 = a_norms[:, None] + row_norms(b)[None, :] - 2.0 * (a @ b.T)
     return np.maximum(d2, 0.0, out=d2)
+
+
+def row_norms(a: np.ndarray) -> np.ndarray:
+    """Squared Euclidean norm of every row of ``a`` (n, d) -> (n,), as ``squared_distances`` sums them."""
+    return np.sum(a * a, axis=1)
 
 
 def check_fitted(estimator, attribute: str) -> None:

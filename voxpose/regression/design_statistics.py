@@ -17,6 +17,7 @@ arithmetic is a regrouping of the products the dense matrix would give (equal to
 import numpy as np
 
 from voxpose.regression.kernels import design_matrix, gaussian_kernel
+from voxpose.validation import row_norms
 
 _BLOCK_ELEMENTS = 1 << 22  # kernel values per block of rows (32 MB of float64)
 
@@ -32,6 +33,7 @@ class DesignStatistics:
         self.gram = np.zeros((self.n_basis, self.n_basis))
         self.phity = np.zeros((self.n_basis, y.shape[1]))
         self.yy = np.sum(y * y, axis=0)
+        self.x_norms = row_norms(x)  # for column(): 0.4 of its 0.6 ms per call were these norms (2285 x 200 rows)
         rows = max(1, _BLOCK_ELEMENTS // self.n_basis)
         for start in range(0, self.n, rows):
             block = design_matrix(x[start : start + rows], centres, width, bias)
@@ -43,4 +45,4 @@ class DesignStatistics:
         if self.bias and j == 0:
             return np.ones(self.n)
         c = j - int(self.bias)
-        return gaussian_kernel(self.x, self.centres[c : c + 1], self.width)[:, 0]
+        return gaussian_kernel(self.x, self.centres[c : c + 1], self.width, self.x_norms)[:, 0]

@@ -14,10 +14,11 @@ from voxpose.errors import VoxposeError
 from voxpose.validation import as_rows, squared_distances
 
 
-def gaussian_kernel(a: np.ndarray, b: np.ndarray, width: float) -> np.ndarray:
+def gaussian_kernel(a: np.ndarray, b: np.ndarray, width: float, a_norms=None) -> np.ndarray:
     """Kernel matrix ``G(a_i, b_j) = exp(-||a_i - b_j||^2 / (2 w^2))``, shape (n, m), computed in place in the
-    distance matrix (the same numbers as ``np.exp(-d2 / (2 w^2))``, without two more n x m temporaries)."""
-    d2 = squared_distances(a, b)
+    distance matrix (the same numbers as ``np.exp(-d2 / (2 w^2))``, without two more n x m temporaries);
+    ``a_norms``: the rows' squared norms, if known (``voxpose.validation.squared_distances``)."""
+    d2 = squared_distances(a, b, a_norms)
     np.divide(d2, -2.0 * width * width, out=d2)
     return np.exp(d2, out=d2)
 
