@@ -43,6 +43,10 @@ The whole table at the current defaults (2026-11-28, d366896's config/config.yam
 N = 1000, 2000, 5000, 9759: 37.7, 51.8, 45.9, 48.6 CPU s; peak 252, 418, 486, 657 MB; 748, 1102, 1186, 1306
 relevance vectors (74.8, 55.1, 23.7, 13.4 %); none converged (1000 moves); held-out RMSE 33.40, 28.39, 25.72 (none
 left at 9759); scale 0.6 chosen at every N. A 10,000-row real training set fits in under a minute on one core.
+Beyond the real sets, on the stand-in at the same defaults (2026-11-28, b98fde0, ``--synthetic 21000 --select --config
+config/config.yaml --rows 1000 2000 5000 10000 20000``, ``taskset -c 1``, workflow tests on the other core): 14.3, 22.8,
+29.1, 31.9, 42.2 CPU s; peak 201, 335, 484, 653, 933 MB; 467, 862, 1037, 1242, 1298 relevance vectors (46.7, 43.1,
+20.7, 12.4, 6.5 %); none converged (1000 moves); held-out RMSE 0.459, 0.376, 0.311, 0.265, 0.244; scale 1 chosen.
 A cProfile of the N = 10000 path (wall-clock shares under the same load; 120.8 CPU s): the width selection
 (3 fits of 1000 moves on min(N, 2000) rows) 39 % of the time, the final fit 61 %; by kind, move
 choice 45 % (exact solves of optimal_alpha 28 %, their companion-matrix eigvals 16 %), full recomputations 23 %

@@ -58,6 +58,14 @@ frame, 64.8 / 62.9 -> 86.4 / 86.4 frames/s (0.86 x the target); 3DSC (with the s
 0.68 -> 0.27 / 0.28, carve 1.98 / 1.97 -> 1.89 / 2.02, root fit 1.30 / 1.29 -> 1.27 / 1.30. What is left is the
 features' (240 x 201) @ (201 x 1200) product per frame, the shape context votes (about 1.5 million per frame)
 and the carving.
+
+The MPPCA posterior after that product in one compiled pass (``features.mppca_kernels``, 2026-11-28, the same model,
+``--repeats 3``, ``taskset -c 0``, old = be28b9b and new = 6f8f44f alternating twice, nothing else running but the
+VM noisier than the day before): features 4.23 / 4.76 -> 3.59 / 3.92 ms per frame; end to end 12.82 / 12.65 ->
+12.11 / 13.28 ms (78.0 / 79.0 -> 82.6 / 75.3 frames/s: the other stages moved by as much as the gain). Earlier the
+same day, stash A/B: features 4.62 / 4.27 -> 3.81 / 3.45, end to end 14.42 / 12.46 -> 13.48 / 10.99 ms (91.0
+frames/s, the best run). The product itself runs at about 22 GMAC/s on one core (2.4 ms for 240 rows), which is
+this CPU's float64 peak: 100 frames/s is not reached on this VM.
 """
 
 import os

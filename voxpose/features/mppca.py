@@ -119,22 +119,27 @@ def _project(params, dtype=np.float64):
     )
 
 
-def _log_joint_chunks(X, proj, chunk_size):
-    """Yield ``(x1, log_joint, latent, sqdist)`` per chunk of rows of ``X``.
-
-    x1 (c, d + 1) float64 shifted rows with a column of ones appended; log_joint (c, K)
-    ``log pi_i + log p(t | i)``; latent (c, K, q) ``V_i^T (x - mu_i)`` in the working dtype; sqdist (c, K)
-    float64 ``|x - mu_i|^2``.
-    """
-    n_components = proj.means.shape[0]
-    n_latent = proj.chol.shape[1]
+def _chunk_products(X, proj, chunk_size):
+    """Yield ``(x1, prod, sqnorm)`` per chunk of rows of ``X``: x1 (c, d + 1) float64 shifted rows with a column of
+    ones appended, ``prod = x1 @ stack`` (c, K (q + 1)) in the working dtype, sqnorm (c,) the rows' ``|x|^2``."""
     for start in range(0, X.shape[0], chunk_size):
         rows = X[start : start + chunk_size]
         x1 = np.ones((rows.shape[0], rows.shape[1] + 1))
         np.subtract(rows, proj.offset, out=x1[:, :-1])
-        prod = x1.astype(proj.stack.dtype, copy=False) @ proj.stack
+        yield x1, x1.astype(proj.stack.dtype, copy=False) @ proj.stack, np.einsum("nd,nd->n", x1[:, :-1], x1[:, :-1])
+
+
+def _log_joint_chunks(X, proj, chunk_size):
+    """Yield ``(x1, log_joint, latent, sqdist)`` per chunk of rows of ``X``.
+
+    x1 as ``_chunk_products``; log_joint (c, K) ``log pi_i + log p(t | i)``; latent (c, K, q) ``V_i^T (x - mu_i)``
+    in the working dtype; sqdist (c, K) float64 ``|x - mu_i|^2``.
+    """
+    n_components = proj.means.shape[0]
+    n_latent = proj.chol.shape[1]
+    for x1, prod, sqnorm in _chunk_products(X, proj, chunk_size):
         sqdist = prod[:, :n_components] * 2.0  # in place from here: each (c, K) temporary costs memory traffic
-        np.subtract(np.einsum("nd,nd->n", x1[:, :-1], x1[:, :-1])[:, None], sqdist, out=sqdist)
+        np.subtract(sqnorm[:, None], sqdist, out=sqdist)
         latent = prod[:, n_components:].reshape(len(x1), n_components, n_latent)
         log_joint = np.einsum("nkq,nkq->nk", latent, latent)
         np.subtract(sqdist, log_joint, out=log_joint)
@@ -158,14 +163,9 @@ def _posterior_chunks(X, proj, chunk_size, compiled=False):
         return
     n_components = proj.means.shape[0]
     n_latent = proj.chol.shape[1]
-    for start in range(0, X.shape[0], chunk_size):
-        rows = X[start : start + chunk_size]
-        x1 = np.ones((rows.shape[0], rows.shape[1] + 1))
-        np.subtract(rows, proj.offset, out=x1[:, :-1])
-        prod = x1 @ proj.stack
+    for x1, prod, sqnorm in _chunk_products(X, proj, chunk_size):
         resp, sqdist = np.empty((len(x1), n_components)), np.empty((len(x1), n_components))
         log_p = np.empty(len(x1))
-        sqnorm = np.einsum("nd,nd->n", x1[:, :-1], x1[:, :-1])
         mppca_kernels.posterior(prod, sqnorm, proj.noise_variance, proj.log_norm, n_latent, resp, log_p, sqdist)
         yield x1, resp, log_p, prod[:, n_components:].reshape(len(x1), n_components, n_latent), sqdist
 
