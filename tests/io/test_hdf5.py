@@ -106,3 +106,24 @@ def test_a_motion_of_no_frames_is_neither_written_nor_read(tmp_path):
     write_motion(tmp_path / "m.h5", Unchecked(**vars(empty)))
     with pytest.raises(VoxposeError, match=rf"^{tmp_path / 'm.h5'}: the motion file has no frames"):
         read_motion(tmp_path / "m.h5")
+
+
+@pytest.mark.parametrize("n_rows", [0, 1, 3000, 9000])
+def test_ragged_arrays_are_chunked_by_whole_rows_and_round_trip(tmp_path, n_rows):
+    """Descriptor files' chunks span every column (a row is read from one chunk), hold about 1 MiB (whole rows,
+    never more rows than there are), and the values round-trip, an empty file's too."""
+    rng = np.random.default_rng(n_rows)
+    cuts = np.sort(rng.integers(0, n_rows + 1, size=4))
+    rows, ijk = rng.random((n_rows, 200)), rng.integers(0, 50, (n_rows, 3))
+    frames = np.split(rows, cuts)
+    write_descriptors(tmp_path / "d.h5", frames, np.split(ijk, cuts), {"n": n_rows})
+    with h5py.File(tmp_path / "d.h5") as f:
+        chunks, ijk_chunks = f["descriptors"].chunks, f["basis_ijk"].chunks
+    if n_rows:
+        assert chunks == (min(n_rows, 2**20 // (200 * 4)), 200)  # float32 rows of 800 bytes
+        assert ijk_chunks == (min(n_rows, 2**20 // 12), 3)
+    read, basis, _ = read_descriptors(tmp_path / "d.h5")
+    for got, want in zip(read, frames, strict=True):
+        np.testing.assert_array_equal(got, want.astype(np.float32))
+    for got, want in zip(basis, np.split(ijk, cuts), strict=True):
+        np.testing.assert_array_equal(got, want)
