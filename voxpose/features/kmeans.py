@@ -16,6 +16,7 @@ import numpy as np
 import scipy.sparse
 
 from voxpose.errors import ConvergenceWarning, VoxposeError
+from voxpose.features.kmeans_bounds import BoundedAssignment
 from voxpose.validation import as_rows, check_fitted, integer, squared_distances
 
 log = logging.getLogger(__name__)
@@ -91,6 +92,10 @@ def kmeans_plus_plus(X, n_clusters, rng, chunk_size=DEFAULT_CHUNK_SIZE):
 class KMeans:
     """K-means clustering: k-means++ seeding, then Lloyd iterations streamed over row chunks.
 
+    Each iteration's assignment skips the rows whose nearest centre Hamerly's bounds prove unchanged
+    (:mod:`voxpose.features.kmeans_bounds`): the same labels and centres as plain Lloyd iterations, with most
+    distances left uncomputed once the centres settle.
+
     Parameters
     ----------
     n_clusters : int
@@ -147,23 +152,25 @@ class KMeans:
         centres = kmeans_plus_plus(X, self.n_clusters, rng, chunk)
         labels = None
         self.converged_ = False
+        assignment = BoundedAssignment(X, chunk)
         for n_iter in range(1, self.max_iter + 1):
             self.n_iter_ = n_iter
-            new_labels, sqdist = nearest_centres(X, centres, chunk)
+            new_labels = assignment.assign(centres)
             sums = np.zeros_like(centres)
             for start in range(0, X.shape[0], chunk):
                 sums += group_sums(new_labels[start : start + chunk], X[start : start + chunk], self.n_clusters)
             counts = np.bincount(new_labels, minlength=self.n_clusters)
             new_centres = sums / np.maximum(counts, 1)[:, None]
             empty = np.flatnonzero(counts == 0)
-            if empty.size:
-                farthest = np.argsort(sqdist)[::-1][: empty.size]
+            if empty.size:  # the farthest rows by Lloyd's own distances, which the bounds do not keep
+                farthest = np.argsort(nearest_centres(X, centres, chunk)[1])[::-1][: empty.size]
                 new_centres[empty] = X[farthest]
                 log.info("k-means iteration %d: moved %d empty clusters", self.n_iter_, empty.size)
             shift = float(((new_centres - centres) ** 2).sum())
             unchanged = labels is not None and np.array_equal(labels, new_labels) and not empty.size
             centres, labels = new_centres, new_labels
-            log.debug("k-means iteration %d: inertia %.6g, centre shift %.3g", self.n_iter_, sqdist.sum(), shift)
+            log.debug("k-means iteration %d: %d of %d rows' distances computed, centre shift %.3g", self.n_iter_,
+                      assignment.recomputed, X.shape[0], shift)  # fmt: skip
             if unchanged or shift <= threshold:
                 self.converged_ = True
                 break
