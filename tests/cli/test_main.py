@@ -29,6 +29,19 @@ def test_malformed_bvh_names_file_and_line_and_leaves_nothing(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["walk_bad.bvh"]
 
 
+def test_log_folder_is_made_and_an_unwritable_log_is_one_line(tmp_path):
+    log = tmp_path / "logs" / "deep" / "rig.log"
+    gen = ("generate", "--kind", "walk", "--index", "0", "--frames", "20", "--seed", "0", "-o")
+    proc = run_voxpose(*gen, tmp_path / "walk.bvh", "--log", log)
+    assert proc.returncode == 0, proc.stderr
+    assert "walk.bvh" in log.read_text()
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    proc = run_voxpose(*gen, tmp_path / "walk2.bvh", "--log", blocker / "x.log")
+    one_line_error(proc, f"--log {blocker / 'x.log'}: cannot write it")
+    assert not (tmp_path / "walk2.bvh").exists()
+
+
 def test_bad_params_json_is_named():
     one_line_error(run_voxpose("motion", "x.bvh", "-o", "y.h5", "--params", "{fps: 30"), "--params")
 

@@ -11,6 +11,7 @@ import logging
 import os
 import sys
 from dataclasses import dataclass
+from pathlib import Path
 
 from voxpose.cli.common import positive_integer
 from voxpose.errors import VoxposeError
@@ -25,9 +26,14 @@ THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"
 
 
 def _setup_logging(log_file) -> None:
+    """Progress to stderr and, with ``--log``, to that file (its folder made, as an output's is)."""
     handlers = [logging.StreamHandler(sys.stderr)]
     if log_file:
-        handlers.append(logging.FileHandler(log_file, mode="w"))
+        try:
+            Path(log_file).parent.mkdir(parents=True, exist_ok=True)
+            handlers.append(logging.FileHandler(log_file, mode="w"))
+        except OSError as err:
+            raise VoxposeError(f"--log {log_file}: cannot write it ({err.strerror})") from None
     logging.basicConfig(level=logging.INFO, format="%(asctime)s %(name)s: %(message)s", handlers=handlers, force=True)
 
 
@@ -109,9 +115,9 @@ def main(argv=None) -> int:
     _limit_threads(argv)  # before any subcommand's module imports numpy
     parser = build_parser(argv[0] if argv and argv[0] in SUBCOMMANDS else None)
     args = parser.parse_args(argv)
-    _setup_logging(args.log)
-    run = SUBCOMMANDS[args.command].load()[2]
     try:
+        _setup_logging(args.log)
+        run = SUBCOMMANDS[args.command].load()[2]
         for option in ("output", "csv", "md", "png", "pdf", "record", "predictions", "angles"):
             target = getattr(args, option, None)
             if isinstance(target, str):  # an output: before any work, a folder or a file in the way is a mistake
