@@ -72,6 +72,28 @@ def test_kernel_ridge_groups_hold_out_whole_groups():
     assert KernelRidge(random_state=0).fit(x, y, groups=groups).ridge_ in KernelRidge().ridges
 
 
+def test_kernel_ridge_ranks_ridges_on_max_rows_drawn_rows_and_refits_on_all():
+    x, y = data(n=120, seed=4)
+    groups = np.repeat(np.arange(12), 10)
+    model = KernelRidge(kernel_width=0.5, max_rows=50, random_state=5).fit(x, y, groups=groups)
+    # the documented draw: 50 rows at random, seeded, then the held-out split among them by whole groups
+    drawn = np.sort(np.random.default_rng(5).choice(120, size=50, replace=False))
+    alone = KernelRidge(kernel_width=0.5, random_state=5).fit(x[drawn], y[drawn], groups=groups[drawn])
+    np.testing.assert_allclose([e for _, e in model.validation_], [e for _, e in alone.validation_], rtol=1e-10)
+    assert [r for r, _ in model.validation_] == list(KernelRidge().ridges)
+    assert model.ridge_ == alone.ridge_
+    refit = KernelRidge(kernel_width=0.5, ridge=model.ridge_).fit(x, y)
+    np.testing.assert_array_equal(model.dual_coef_, refit.dual_coef_)
+    assert model.dual_coef_.shape == (120, 2)
+    everything = KernelRidge(kernel_width=0.5, random_state=5).fit(x, y, groups=groups)
+    assert KernelRidge(kernel_width=0.5, max_rows=120, random_state=5).fit(x, y, groups=groups).validation_ == (
+        everything.validation_
+    )
+    assert everything.validation_ != model.validation_
+    with pytest.raises(VoxposeError, match="kernel ridge: max_rows must be an integer >= 2"):
+        KernelRidge(kernel_width=0.5, max_rows=1).fit(x, y)
+
+
 def test_cholesky_solve_adds_jitter_to_singular_matrices():
     a = np.ones((3, 3))  # rank 1
     b = np.array([3.0, 3.0, 3.0])

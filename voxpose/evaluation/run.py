@@ -249,9 +249,8 @@ def fit(features: dict, motions: dict, train: list, cfg: dict, seed: int) -> Fit
     baselines = {
         "mean_pose": MeanPose().fit(x_train, y_train),
         "nearest_neighbour": NearestNeighbour().fit(x_train, y_train),
-        "kernel_ridge": KernelRidge(kernel_width=model.kernel_width_, random_state=seed).fit(
-            x_train, z_train, groups=groups
-        ),
+        "kernel_ridge": KernelRidge(kernel_width=model.kernel_width_, max_rows=cfg.get("selection_max_rows"),
+                                    random_state=seed).fit(x_train, z_train, groups=groups),  # fmt: skip
     }
 
     summary = {

@@ -14,7 +14,7 @@ import numpy as np
 import scipy.linalg
 
 from voxpose.errors import VoxposeError
-from voxpose.regression.kernels import gaussian_kernel, holdout_split, median_pairwise_distance
+from voxpose.regression.kernels import gaussian_kernel, median_pairwise_distance, selection_split
 from voxpose.validation import as_rows, check_fitted, positive_number, squared_distances
 
 log = logging.getLogger(__name__)
@@ -154,7 +154,11 @@ class KernelRidge(_Baseline):
         diagonal), or None: chosen from ``ridges`` on held-out training rows (lowest validation RMSE,
         ``voxpose.regression.kernels.holdout_split`` with ``validation_fraction`` and the ``groups`` given to
         ``fit``; groups with a single label hold out rows, as without groups), then refitted on all rows.
-    random_state : seed of the held-out split and of the median distance's row subset.
+    max_rows : the ridge is chosen on at most this many training rows drawn at random
+        (``voxpose.regression.kernels.selection_split``, the MVRVM width selection's rule; None: every row), then
+        refitted on all: the choice costs six Cholesky factorisations of the fitting rows' kernel, cubic in their
+        number, the refit one.
+    random_state : seed of the held-out split, of the drawn rows and of the median distance's row subset.
 
     Attributes
     ----------
@@ -173,12 +177,14 @@ class KernelRidge(_Baseline):
         ridge=None,
         ridges=(1e-4, 1e-3, 1e-2, 1e-1, 1.0, 10.0),
         validation_fraction: float = 0.2,
+        max_rows: int | None = None,
         random_state=None,
     ):
         self.kernel_width = kernel_width
         self.ridge = ridge
         self.ridges = ridges
         self.validation_fraction = validation_fraction
+        self.max_rows = max_rows
         self.random_state = random_state
 
     @staticmethod
@@ -196,7 +202,8 @@ class KernelRidge(_Baseline):
         if self.ridge is None:
             if groups is not None and np.unique(groups).size < 2:  # one motion: nothing whole to hold out
                 groups = None
-            fit_rows, val_rows = holdout_split(x.shape[0], self.validation_fraction, groups, self.random_state)
+            fit_rows, val_rows = selection_split(x.shape[0], self.max_rows, self.validation_fraction, groups,
+                                                 self.random_state, "kernel ridge")  # fmt: skip
             fit_gram, val_gram = gram[np.ix_(fit_rows, fit_rows)], gram[np.ix_(val_rows, fit_rows)]
             table = []
             for ridge in self.ridges:

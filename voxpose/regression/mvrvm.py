@@ -58,7 +58,7 @@ import pandas as pd
 
 from voxpose.errors import ConvergenceWarning, VoxposeError
 from voxpose.regression.design_statistics import DesignStatistics
-from voxpose.regression.kernels import design_matrix, holdout_split, median_pairwise_distance
+from voxpose.regression.kernels import design_matrix, median_pairwise_distance, selection_split
 from voxpose.regression.mvrvm_alpha import contribution, mode_bounds, newton_ascent, optimal_alpha, series_bound
 from voxpose.regression.mvrvm_posterior import Posterior
 from voxpose.validation import as_rows, check_fitted, integer, positive_number
@@ -489,8 +489,9 @@ def select_kernel_width(
     to the smaller width. Refit on all training rows with the chosen width afterwards, from ``start``.
 
     With more than ``max_rows`` rows, all of this happens on ``max_rows`` of them drawn at random (seeded by
-    ``random_state``), exactly as if only those had been passed: the widths are only ranked, and the
-    selection's fits would otherwise cost as much as the final one for every width (None: every row).
+    ``random_state``; ``voxpose.regression.kernels.selection_split``), exactly as if only those had been passed:
+    the widths are only ranked, and the selection's fits would otherwise cost as much as the final one for every
+    width (None: every row).
 
     Returns
     -------
@@ -504,12 +505,8 @@ def select_kernel_width(
     y = as_rows(y[:, None] if y.ndim == 1 else y, "kernel width selection: Y")
     if x.shape[0] != y.shape[0]:
         raise VoxposeError(f"kernel width selection: X has {x.shape[0]} rows but Y has {y.shape[0]}")
-    drawn = np.arange(x.shape[0])
-    if max_rows is not None and x.shape[0] > integer(max_rows, "kernel width selection: max_rows"):
-        drawn = np.sort(np.random.default_rng(random_state).choice(x.shape[0], size=max_rows, replace=False))
-    fit_rows, val_rows = holdout_split(drawn.size, validation_fraction,
-                                       None if groups is None else np.asarray(groups)[drawn], random_state)  # fmt: skip
-    fit_rows, val_rows = drawn[fit_rows], drawn[val_rows]
+    fit_rows, val_rows = selection_split(x.shape[0], max_rows, validation_fraction, groups, random_state,
+                                         "kernel width selection")  # fmt: skip
     if widths is None:
         base = median_pairwise_distance(x[fit_rows], random_state=random_state)
         scale_list = [float(s) for s in scales]
