@@ -79,3 +79,25 @@ def test_degenerate_inputs():
         shape_contexts(circle(), r_inner=2.0, r_outer=1.0)
     with pytest.raises(VoxposeError):
         boundary_pixels(np.zeros(5, dtype=bool))
+
+
+def _brute_force_farthest(points, n):
+    """Farthest-point sampling written out: each next point maximises the distance to the chosen set, first wins."""
+    chosen = [0]
+    for _ in range(1, n):
+        d = [min(float(((p - points[c]) ** 2).sum()) for c in chosen) for p in points]
+        chosen.append(int(np.argmax(d)))
+    return np.sort(chosen)
+
+
+@pytest.mark.parametrize("kernels", ["numba", "numpy"])
+def test_farthest_points_equal_a_brute_force_sampling_ties_included(monkeypatch, kernels):
+    if kernels == "numba":
+        pytest.importorskip("numba")
+    monkeypatch.setenv("VOXPOSE_KERNELS", kernels)
+    rng = np.random.default_rng(2)
+    yy, xx = np.mgrid[:90, :70]
+    blob = ((xx - 35) / 20.0) ** 2 + ((yy - 40) / 30.0) ** 2 < 1  # a body and an arm: integer pixels, many ties
+    blob |= (np.abs(xx - 55) < 4) & (yy > 10) & (yy < 60)
+    for points, n in ((boundary_pixels(blob), 40), (rng.normal(size=(300, 2)), 25), (np.zeros((5, 2)), 3)):
+        np.testing.assert_array_equal(farthest_points(points, n), _brute_force_farthest(points, n))

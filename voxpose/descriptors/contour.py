@@ -19,7 +19,9 @@ The paper's Table 1 compares against Agarwal & Triggs, who describe one silhouet
 
 import numpy as np
 
+from voxpose.descriptors import contour_kernels
 from voxpose.errors import VoxposeError
+from voxpose.kernels import use_numba
 
 
 def boundary_pixels(mask: np.ndarray) -> np.ndarray:
@@ -45,6 +47,9 @@ def farthest_points(points: np.ndarray, n: int) -> np.ndarray:
         return np.arange(m)
     x, y = np.ascontiguousarray(points[:, 0]), np.ascontiguousarray(points[:, 1])
     chosen = np.empty(n, dtype=np.intp)
+    if use_numba():  # the same indices in one pass per point (voxpose.descriptors.contour_kernels)
+        contour_kernels.farthest(x, y, chosen)
+        return np.sort(chosen)
     chosen[0] = 0
     dist = (x - x[0]) ** 2 + (y - y[0]) ** 2
     for i in range(1, n):
