@@ -371,8 +371,9 @@ def test_projection_is_cached_per_parameter_set():
 @pytest.mark.parametrize("n_latent", [0, 2])
 def test_compiled_posterior_equals_dense_covariances_and_the_numpy_path(monkeypatch, n_latent):
     """``compiled=True``: the same densities and responsibilities as the dense reference and the numpy path (to
-    rounding: it divides by the row's sum of exp instead of subtracting log p), across chunks, on rows far from
-    every component (most terms underflow to exactly 0) and near them; ``VOXPOSE_KERNELS=numpy`` falls back."""
+    rounding: it divides by the row's sum of exp instead of subtracting log p, and evaluates only the components
+    its float32 screen keeps; the others are below 1e-30 on the numpy path), across chunks, on rows far from
+    every component (most terms underflow) and near them; ``VOXPOSE_KERNELS=numpy`` falls back."""
     X = overlapping_clusters(5)
     model = MPPCA(3, n_latent=n_latent, max_iter=4, random_state=0, chunk_size=41).fit(X)
     far = X[:50] * 40.0  # hundreds of nats between components: exact zeros in the responsibilities
@@ -385,16 +386,45 @@ def test_compiled_posterior_equals_dense_covariances_and_the_numpy_path(monkeypa
     np.testing.assert_allclose(score, log_p, rtol=1e-10)
     np.testing.assert_allclose(proba, np.exp(reference - log_p[:, None]), atol=1e-10)
     numpy_proba, numpy_score = model.proba_and_score(rows)
-    np.testing.assert_allclose(proba, numpy_proba, rtol=1e-12, atol=1e-300)
+    kept = proba > 0.0
+    np.testing.assert_allclose(proba[kept], numpy_proba[kept], rtol=1e-12)
+    assert numpy_proba[~kept].max(initial=0.0) < 1e-30  # screened: provably below 1e-30
     np.testing.assert_allclose(score, numpy_score, rtol=1e-12)
-    np.testing.assert_array_equal(proba == 0.0, numpy_proba == 0.0)  # the same terms underflow
     assert np.count_nonzero(proba[len(X) :] == 0.0) > 0
     np.testing.assert_allclose(compiled.score_samples(rows), numpy_score, rtol=1e-12)
-    proj = model._projection()
-    kernel_chunks = mppca_module._posterior_chunks(rows, proj, 41, True)
-    numpy_chunks = mppca_module._posterior_chunks(rows, proj, 41)
-    for kernel_chunk, numpy_chunk in zip(kernel_chunks, numpy_chunks, strict=True):  # x1, resp, log p, latent, sqdist
-        for a, b in zip(kernel_chunk, numpy_chunk, strict=True):
-            np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-300)
     monkeypatch.setenv("VOXPOSE_KERNELS", "numpy")
     np.testing.assert_array_equal(compiled.proba_and_score(rows)[0], numpy_proba)
+
+
+def test_float32_screen_keeps_every_component_above_1e_30_where_rounding_is_tens_of_nats():
+    """The compiled path's screen (features/mppca_kernels.py) on rows built so that float32 rounding moves log joints
+    by tens of nats: two components 1 apart with sigma^2 = 1e-9 and rows near the plane between them, where both
+    are live (responsibilities from 1 down past 1e-30). Every component whose responsibility on the float64 numpy
+    path is at least 1e-30 is kept and equals it, every screened one is below 1e-30; and the same screen without
+    its error allowance (gamma = 0) does drop live components, so the data tests the allowance."""
+    rng = np.random.default_rng(3)
+    d, q = 40, 2
+    axis = rng.normal(size=d)
+    axis /= np.linalg.norm(axis)
+    means = np.stack([0.5 * axis, -0.5 * axis, 3.0 * axis + 2.0])  # the third is far from every row
+    components = rng.normal(size=(3, d, q)) * 1e-9  # next to sigma, no preferred direction to speak of
+    arrays = {"weights": np.full(3, 1.0 / 3.0), "means": means, "components": components,
+              "noise_variance": np.full(3, 1e-9)}  # fmt: skip
+    meta = {"log_likelihood": [0.0], "n_iter": 0, "converged": True, "n_reseeded": 0, "noise_variance_floor": 1e-12}
+    across = rng.normal(size=(600, d)) * 0.3
+    across -= np.outer(across @ axis, axis)  # in the plane between the two components ...
+    rows = across + np.outer(rng.uniform(-1e-7, 1e-7, size=600), axis)  # ... give or take +-100 nats
+    numpy_proba, numpy_score = MPPCA.from_arrays(arrays, meta).proba_and_score(rows)
+    live = numpy_proba >= 1e-30
+    assert np.count_nonzero(live.sum(axis=1) > 1) > 100
+    compiled = MPPCA.from_arrays(arrays, meta)
+    compiled.compiled = True
+    proba, score = compiled.proba_and_score(rows)
+    assert (proba[live] > 0.0).all()
+    # float64 itself is only good to ~1e-5 nats here (|x - mu|^2 / sigma^2 ~ 4e9), on both paths
+    np.testing.assert_allclose(proba[live], numpy_proba[live], rtol=1e-4)
+    assert numpy_proba[proba == 0.0].max(initial=0.0) < 1e-30
+    np.testing.assert_allclose(score, numpy_score, rtol=1e-12)
+    proj, screen = compiled._screen_cache
+    compiled._screen_cache = (proj, screen._replace(gamma=0.0))
+    assert (compiled.predict_proba(rows)[live] == 0.0).any()

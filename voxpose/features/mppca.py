@@ -93,7 +93,8 @@ def _project(params, dtype=np.float64):
     ``dtype`` is the precision of the two large products of the E-step. The estimator always uses float64;
     float32 exists for ``benchmarks/bench_mppca.py``, which measures why it is not offered: on paper-sized
     data it is at most about 1.5x faster, but moves log densities by up to 0.08 and responsibilities by up to
-    7e-3 (the ``|x|^2 - 2 x.mu + |mu|^2`` cancellation, divided by sigma^2 ~ 1e-5).
+    7e-3 (the ``|x|^2 - 2 x.mu + |mu|^2`` cancellation, divided by sigma^2 ~ 1e-5). The compiled scoring path
+    (``_scored_chunks``) takes a float32 product only to rule components out, with a proven error bound.
     """
     n_components, n_features, n_latent = params.components.shape
     offset = params.weights @ params.means
@@ -149,25 +150,52 @@ def _log_joint_chunks(X, proj, chunk_size):
         yield x1, log_joint, latent, sqdist
 
 
-def _posterior_chunks(X, proj, chunk_size, compiled=False):
+def _posterior_chunks(X, proj, chunk_size):
     """Yield ``(x1, resp, log_p, latent, sqdist)`` per chunk of rows of ``X``: the responsibilities (c, K), the log
-    density of each row (c,), and ``_log_joint_chunks``'s x1, latent and sqdist.
+    density of each row (c,), and ``_log_joint_chunks``'s x1, latent and sqdist (log-sum-exp, then
+    ``exp(log joint - log p)``)."""
+    for x1, log_joint, latent, sqdist in _log_joint_chunks(X, proj, chunk_size):
+        log_p = _logsumexp_rows(log_joint)
+        yield x1, _exp(log_joint - log_p[:, None]), log_p, latent, sqdist
 
-    With ``compiled`` (and the kernels enabled, :mod:`voxpose.kernels`), one compiled pass per row after the product
-    (:mod:`voxpose.features.mppca_kernels`); otherwise the numpy path: log-sum-exp, then ``exp(log joint - log p)``.
+
+class _Screen(NamedTuple):
+    """The compiled scoring path's constants of one projection (:mod:`voxpose.features.mppca_kernels`).
+
+    stack32 the projection's stack in float32; stack_rows (K, d + 1, q + 1) each component's stack columns side by
+    side (mean first); col_norm (K (q + 1),) the stack's column norms; gamma the float32 dot product's error factor.
     """
-    if not (compiled and proj.stack.dtype == np.float64 and use_numba()):
-        for x1, log_joint, latent, sqdist in _log_joint_chunks(X, proj, chunk_size):
-            log_p = _logsumexp_rows(log_joint)
-            yield x1, _exp(log_joint - log_p[:, None]), log_p, latent, sqdist
-        return
-    n_components = proj.means.shape[0]
+
+    stack32: np.ndarray
+    stack_rows: np.ndarray
+    col_norm: np.ndarray
+    gamma: float
+
+
+def _screen(proj):
+    """The ``_Screen`` of a float64 projection."""
+    n_components, n_latent = proj.chol.shape[:2]
+    stack = proj.stack
+    rows = np.empty((n_components, stack.shape[0], n_latent + 1))
+    rows[:, :, 0] = stack[:, :n_components].T
+    rows[:, :, 1:] = stack[:, n_components:].reshape(stack.shape[0], n_components, n_latent).transpose(1, 0, 2)
+    return _Screen(stack.astype(np.float32), rows, np.sqrt(np.einsum("ij,ij->j", stack, stack)),
+                   mppca_kernels.rounding_factor(stack.shape[0]))  # fmt: skip
+
+
+def _scored_chunks(X, proj, screen, chunk_size):
+    """Yield ``(resp, log_p)`` per chunk of rows of ``X`` by the compiled kernel: a float32 product screens the
+    components, the kept ones are evaluated in float64 (:mod:`voxpose.features.mppca_kernels`)."""
     n_latent = proj.chol.shape[1]
-    for x1, prod, sqnorm in _chunk_products(X, proj, chunk_size):
-        resp, sqdist = np.empty((len(x1), n_components)), np.empty((len(x1), n_components))
-        log_p = np.empty(len(x1))
-        mppca_kernels.posterior(prod, sqnorm, proj.noise_variance, proj.log_norm, n_latent, resp, log_p, sqdist)
-        yield x1, resp, log_p, prod[:, n_components:].reshape(len(x1), n_components, n_latent), sqdist
+    for start in range(0, X.shape[0], chunk_size):
+        rows = X[start : start + chunk_size]
+        x1 = np.ones((rows.shape[0], rows.shape[1] + 1))
+        np.subtract(rows, proj.offset, out=x1[:, :-1])
+        prod32 = x1.astype(np.float32) @ screen.stack32
+        resp, log_p = np.empty((len(x1), proj.means.shape[0])), np.empty(len(x1))
+        mppca_kernels.screened_posterior(prod32, x1, screen.stack_rows, screen.col_norm, screen.gamma,
+                                         proj.noise_variance, proj.log_norm, n_latent, resp, log_p)  # fmt: skip
+        yield resp, log_p
 
 
 def _exp(a):
@@ -385,11 +413,12 @@ class MPPCA:
     random_state : int, numpy Generator or None
         Seed of the k-means++ draws and of the (q = 0) re-seeding directions.
     compiled : bool
-        ``score_samples``, ``predict_proba`` and ``proba_and_score`` after the product run the compiled kernel
-        (:mod:`voxpose.features.mppca_kernels`, when :mod:`voxpose.kernels` allows it): the same numbers to
-        rounding. Off by default: it saves about 5 us per row, which repays numba's start-up (about 0.5 s per
-        process) only after ~10^5 rows, so it is for processes that load numba anyway and evaluate frame after
-        frame: ``voxpose predict`` (``voxpose.apply.model_file.load_model`` turns it on). ``fit`` never uses it.
+        ``score_samples``, ``predict_proba`` and ``proba_and_score`` run the compiled kernel
+        (:mod:`voxpose.features.mppca_kernels`, when :mod:`voxpose.kernels` allows it): a float32 product screens
+        out the components whose responsibility is provably below 1e-30 (they get 0), the rest are evaluated in
+        float64, so the numbers are the numpy path's to rounding and to 1e-30. Off by default: numba's start-up
+        (about 0.5 s per process) repays only in processes that load numba anyway and evaluate frame after frame:
+        ``voxpose predict`` (``voxpose.apply.model_file.load_model`` turns it on). ``fit`` never uses it.
 
     Attributes
     ----------
@@ -585,17 +614,33 @@ class MPPCA:
             cached = self._projection_cache = (params, _project(params))
         return cached[1]
 
+    def _screening(self):
+        """The compiled scoring path's constants (``_Screen``), computed once per parameter set like
+        :meth:`_projection`."""
+        proj = self._projection()
+        cached = self.__dict__.get("_screen_cache")
+        if cached is None or cached[0] is not proj:
+            cached = self._screen_cache = (proj, _screen(proj))
+        return cached[1]
+
     def _scoring_setup(self, X):
         """Validate ``X`` against the fitted model; return (X, projection, chunk size)."""
         check_fitted(self, "components_")
         X = as_rows(X, "MPPCA input", self.n_features_in_, dtype=None)
         return X, self._projection(), integer(self.chunk_size, "chunk_size")
 
+    def _posteriors(self, X, proj, chunk):
+        """``(resp, log_p)`` per chunk: the compiled screened kernel with ``compiled`` (and the kernels enabled),
+        else the numpy path."""
+        if self.compiled and use_numba():
+            return _scored_chunks(X, proj, self._screening(), chunk)
+        return ((resp, log_p) for _, resp, log_p, _, _ in _posterior_chunks(X, proj, chunk))
+
     def score_samples(self, X):
         """Log density ``log p(t_n)`` of each row of ``X`` (n, d) under the mixture: shape (n,)."""
         X, proj, chunk = self._scoring_setup(X)
-        if self.compiled:
-            return np.concatenate([log_p for _, _, log_p, _, _ in _posterior_chunks(X, proj, chunk, True)])
+        if self.compiled and use_numba():
+            return np.concatenate([log_p for _, log_p in self._posteriors(X, proj, chunk)])
         return np.concatenate([_logsumexp_rows(lj) for _, lj, _, _ in _log_joint_chunks(X, proj, chunk)])
 
     def score(self, X):
@@ -611,7 +656,7 @@ class MPPCA:
         are normalised by the log density anyway."""
         X, proj, chunk = self._scoring_setup(X)
         proba, score = [], []
-        for _, resp, log_p, _, _ in _posterior_chunks(X, proj, chunk, self.compiled):
+        for resp, log_p in self._posteriors(X, proj, chunk):
             proba.append(resp)
             score.append(log_p)
         return np.concatenate(proba), np.concatenate(score)

@@ -1,13 +1,29 @@
-"""Compiled (numba) kernel of the MPPCA's posterior (:class:`voxpose.features.mppca.MPPCA` with ``compiled=True``),
-selected by :mod:`voxpose.kernels`.
+"""Compiled (numba) kernel of the MPPCA's posterior for scoring (:class:`voxpose.features.mppca.MPPCA` with
+``compiled=True``), selected by :mod:`voxpose.kernels`: a float32 product screens the components, float64 decides.
 
-After the one product ``[x, 1] @ stack`` of a row chunk (``voxpose.features.mppca``, module docstring), the numpy
-path makes about ten passes over (rows, K) arrays: the squared distances, the latent norms (an einsum), the
-Mahalanobis term, the log-sum-exp (a maximum, an ``exp`` of every live term, a sum) and the responsibilities (a
-second ``exp``). This loop does it in one pass per row with one ``exp`` per live term: the responsibility is
-``exp(l_i - peak) / sum_j exp(l_j - peak)`` instead of ``exp(l_i - log p)``, which differs by rounding only (the
-tests compare both paths to 1e-12). Terms more than 750 nats below the row's peak are exactly zero in float64 on
-both paths. Measured (a 240-row default frame, K = 200, q = 5, one core): 1.27 ms less per frame of 4.46 ms.
+The numpy path evaluates every component of every row from one float64 product ``[x, 1] @ stack``
+(``voxpose.features.mppca``, module docstring), (d + 1) x K (q + 1) multiply-adds per row, the most of a predicted
+frame's feature time. Nearly all of those terms are irrelevant: on the default run's descriptors a row has 2.0
+components within 100 nats of its best one, of K = 200. This kernel takes the same product in float32 (``prod32``,
+about half the time in BLAS), and per row
+
+1. bounds each component's log joint from it: ``approx +- err``, where ``err`` follows from the rounding error of a
+   float32 dot product, ``|fl(a . b) - a . b| <= gamma |a| |b|`` with ``gamma = (n + 2) u / (1 - (n + 2) u)``,
+   ``u = 2^-24`` and n = d + 1 terms (Higham, *Accuracy and Stability of Numerical Algorithms*, Sec. 3.1; the two
+   extra units cover rounding the inputs to float32; any summation order, fused or not; plus 2^-120 for
+   underflow), carried through
+   ``|x - mu|^2 = |x|^2 - 2 (x . mu - |mu|^2 / 2)`` and the latent norm ``sum_j p_j^2`` (for a computed ``p^`` with
+   error at most ``e``, ``|p^2 - p^^2| <= e (2 |p^| + e)``), with a relative slack of 1e-9 for the float64 arithmetic;
+2. keeps the components whose upper bound reaches ``best lower bound - SCREEN_NATS``: any other has a responsibility
+   below ``exp(-SCREEN_NATS) = 1e-30`` (``voxpose.features.mppca._NEGLIGIBLE``, the level below which the EM already
+   drops responsibilities as changing no sum at float64 resolution), and is given exactly 0;
+3. evaluates the kept components in float64 from the rows and the stacked projection, ``(d + 1) (q + 1)`` multiply-
+   adds each, and combines them as before: ``exp(l_i - peak) / sum_j exp(l_j - peak)``, terms more than 750 nats
+   below the peak exactly 0, ``log p = peak + log(sum)``.
+
+So the kept responsibilities and the log density equal the numpy path's to rounding (the tests compare to 1e-12),
+and a screened one differs from it by less than 1e-30. A row whose bounds are not finite (NaN or overflowing input)
+is evaluated in full, as the numpy path would.
 """
 
 import math
@@ -17,40 +33,98 @@ import numpy as np
 from voxpose.kernels import jit
 
 _EXP_ZERO = -750.0  # as voxpose.features.mppca._EXP_ZERO: exp of anything at or below it is 0.0 in float64
+SCREEN_NATS = 69.08
+"""Components whose log joint is provably this far below a row's best are screened out: ``exp(-69.08) < 1e-30``."""
+_UNIT = 2.0**-24  # float32 unit round-off
+_SLACK = 1e-9  # relative allowance for the float64 arithmetic of the bounds themselves
+_TINY = 2.0**-120  # absolute allowance per dot product for float32 underflow (at most d + 3 terms of 2^-150)
+
+
+def rounding_factor(n_terms: int) -> float:
+    """``gamma`` of the module docstring for float32 dot products of ``n_terms`` terms with rounded inputs."""
+    nu = (n_terms + 2) * _UNIT
+    return nu / (1.0 - nu)
 
 
 @jit
-def posterior(prod, sqnorm, noise_variance, log_norm, n_latent, resp, log_p, sqdist):  # pragma: no cover (compiled)
-    """Fill ``resp`` (c, K), ``log_p`` (c,) and ``sqdist`` (c, K) from ``prod`` (c, K (q + 1)), the chunk's product
-    with the stacked projection, and ``sqnorm`` (c,), its shifted rows' squared norms.
+def _exact_joint(x1, row, stack_rows, k, sqnorm, noise_variance, log_norm, n_latent, acc):  # pragma: no cover
+    """The float64 log joint of component ``k`` for row ``row`` of ``x1``, as the numpy path computes it."""
+    for j in range(n_latent + 1):
+        acc[j] = 0.0
+    for i in range(x1.shape[1]):
+        xi = x1[row, i]
+        for j in range(n_latent + 1):
+            acc[j] += xi * stack_rows[k, i, j]
+    latent = 0.0
+    for j in range(1, n_latent + 1):
+        latent += acc[j] * acc[j]
+    dist = sqnorm - acc[0] * 2.0
+    return (dist - latent) / noise_variance[k] * -0.5 + log_norm[k]
 
-    Per row and component: ``|x - mu|^2 = |x|^2 - 2 (x.mu - |mu|^2 / 2)``, the latent norm ``|V^T (x - mu)|^2``,
-    the log joint ``-(|x - mu|^2 - latent norm) / (2 sigma^2) + log_norm``; then the log-sum-exp over components
-    and the responsibilities.
+
+@jit
+def screened_posterior(prod32, x1, stack_rows, col_norm, gamma, noise_variance, log_norm, n_latent, resp,
+                       log_p):  # fmt: skip  # pragma: no cover (compiled)
+    """Fill ``resp`` (c, K) and ``log_p`` (c,) for the rows ``x1`` (c, d + 1, shifted, with the column of ones).
+
+    ``prod32`` (c, K (q + 1)) float32 ``x1 @ stack`` in the projection's column order (K means, then K blocks of q);
+    ``stack_rows`` (K, d + 1, q + 1) float64, component k's columns side by side (mean first); ``col_norm``
+    (K (q + 1),) the Euclidean norms of the stack's columns; ``gamma`` from ``rounding_factor(d + 1)``.
     """
-    n_rows = prod.shape[0]
+    n_rows = prod32.shape[0]
     n_components = log_norm.shape[0]
+    approx = np.empty(n_components)
+    err = np.empty(n_components)
     joint = np.empty(n_components)
+    kept = np.empty(n_components, dtype=np.bool_)
+    acc = np.empty(n_latent + 1)
     for i in range(n_rows):
+        sqnorm = 0.0
+        for t in range(x1.shape[1] - 1):
+            sqnorm += x1[i, t] * x1[i, t]
+        scale = gamma * math.sqrt(sqnorm + 1.0)  # |[x, 1]| times gamma
+        best_lower = -np.inf
+        finite = True
+        for k in range(n_components):
+            p_mean = float(prod32[i, k])
+            e_mean = scale * col_norm[k] + _TINY
+            latent = 0.0
+            e_latent = 0.0
+            size = sqnorm + 2.0 * abs(p_mean)
+            for j in range(n_latent):
+                col = n_components + k * n_latent + j
+                p = float(prod32[i, col])
+                e = scale * col_norm[col] + _TINY
+                latent += p * p
+                e_latent += e * (2.0 * abs(p) + e)
+            size += latent
+            inverse = 0.5 / noise_variance[k]
+            value = -(sqnorm - 2.0 * p_mean - latent) * inverse + log_norm[k]
+            bound = (2.0 * e_mean + e_latent + _SLACK * size) * inverse + _SLACK * abs(log_norm[k])
+            approx[k] = value
+            err[k] = bound
+            if not (math.isfinite(value) and math.isfinite(bound)):
+                finite = False
+            elif value - bound > best_lower:
+                best_lower = value - bound
+        cut = best_lower - SCREEN_NATS
         peak = -np.inf
         for k in range(n_components):
-            base = n_components + k * n_latent
-            latent = 0.0
-            for j in range(n_latent):
-                latent += prod[i, base + j] * prod[i, base + j]
-            dist = sqnorm[i] - prod[i, k] * 2.0
-            sqdist[i, k] = dist
-            value = (dist - latent) / noise_variance[k] * -0.5 + log_norm[k]
-            joint[k] = value
-            if value > peak:
-                peak = value
+            kept[k] = not finite or approx[k] + err[k] >= cut
+            if kept[k]:
+                value = _exact_joint(x1, i, stack_rows, k, sqnorm, noise_variance, log_norm, n_latent, acc)
+                joint[k] = value
+                if value > peak:
+                    peak = value
         total = 0.0
         for k in range(n_components):
-            shifted = joint[k] - peak
-            term = math.exp(shifted) if shifted > _EXP_ZERO else 0.0
+            term = 0.0
+            if kept[k]:
+                shifted = joint[k] - peak
+                term = math.exp(shifted) if shifted > _EXP_ZERO else 0.0
             resp[i, k] = term
             total += term
         log_p[i] = peak + math.log(total)
-        scale = 1.0 / total
+        inverse_total = 1.0 / total
         for k in range(n_components):
-            resp[i, k] *= scale
+            resp[i, k] *= inverse_total
