@@ -66,6 +66,13 @@ VM noisier than the day before): features 4.23 / 4.76 -> 3.59 / 3.92 ms per fram
 same day, stash A/B: features 4.62 / 4.27 -> 3.81 / 3.45, end to end 14.42 / 12.46 -> 13.48 / 10.99 ms (91.0
 frames/s, the best run). The product itself runs at about 22 GMAC/s on one core (2.4 ms for 240 rows), which is
 this CPU's float64 peak: 100 frames/s is not reached on this VM.
+
+The MPPCA scoring screened by a float32 product (``features.mppca_kernels``: components with a provable
+responsibility below 1e-30 ruled out, the rest, 1.6 per row, evaluated in float64; 2026-11-28, ``--model`` the
+default run's Table 2 model of 1be680c, ``--repeats 3``, ``taskset -c 0``, idle, old = 1be680c and new alternating
+twice, each with ``PYTHONPATH`` on its own checkout): features 3.29 / 3.28 -> 2.54 / 2.56 ms per frame; end to end
+10.20 / 10.13 -> 9.60 / 9.65 ms, 98.0 / 98.7 -> 104.1 / 103.7 frames/s (carve 1.83 - 1.90, 3DSC 3.44 - 3.58, root
+fit 1.18 - 1.21 on both).
 """
 
 import os
