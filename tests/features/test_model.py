@@ -33,3 +33,9 @@ def test_feature_model_file_layout_and_read_back(tmp_path, method, array_names, 
     np.testing.assert_array_equal(loaded, fitted)
     np.testing.assert_array_equal(loaded_counts, counts)
     np.testing.assert_allclose(fitted.sum(axis=1), 1.0)
+    compiled, compiled_counts = FeatureModel.load(tmp_path / "features.h5").compiled().transform(descriptors, frames, 8)
+    np.testing.assert_allclose(compiled, fitted, rtol=1e-12, atol=1e-30)  # the screened path: rounding and 1e-30
+    np.testing.assert_array_equal(compiled_counts, counts)
+    assert getattr(FeatureModel.load(tmp_path / "features.h5").compiled().estimator, "compiled", None) is (
+        True if method == "mppca" else None
+    )

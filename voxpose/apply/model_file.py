@@ -88,9 +88,7 @@ def load_model(path) -> PoseModel:
     try:
         pca, mvrvm = regressor_from_arrays(*groups["regressor"])
         skeleton = groups["skeleton"][0]
-        features = FeatureModel.from_arrays(*groups["feature_model"])
-        if features.method == "mppca":
-            features.estimator.compiled = True  # predict loads numba for carving anyway (MPPCA, ``compiled``)
+        features = FeatureModel.from_arrays(*groups["feature_model"]).compiled()  # predict loads numba anyway
         return PoseModel(
             voxels=meta["voxels"],
             descriptor=meta["descriptor"],

@@ -21,7 +21,7 @@ def run(args):
     from voxpose.features.model import FeatureModel
     from voxpose.io.hdf5 import write_per_motion
 
-    model = FeatureModel.load(args.model)
+    model = FeatureModel.load(args.model).compiled()  # thousands of frames: repays numba's start-up
     motions, novelty = {}, {}
     for path in args.descriptors:
         frames, _, meta, h0 = read_descriptor_file(path)

@@ -202,6 +202,14 @@ class FeatureModel:
             return cls(method, MPPCA.from_arrays(arrays, meta), None, meta)
         return cls(method, KMeans.from_arrays(arrays, meta), SoftVoteRule(meta["n_nearest"], meta["bandwidth"]), meta)
 
+    def compiled(self) -> "FeatureModel":
+        """This model with an MPPCA's scoring on its compiled, screened path (``MPPCA.compiled``): for processes
+        that evaluate many frames (``voxpose features``, ``voxpose predict``); the numbers are the numpy path's to
+        rounding and 1e-30. K-means is unchanged."""
+        if self.method == "mppca":
+            self.estimator.compiled = True
+        return self
+
     def save(self, path) -> None:
         write_arrays(path, "feature-model", *self.to_arrays())
 

@@ -417,8 +417,8 @@ class MPPCA:
         (:mod:`voxpose.features.mppca_kernels`, when :mod:`voxpose.kernels` allows it): a float32 product screens
         out the components whose responsibility is provably below 1e-30 (they get 0), the rest are evaluated in
         float64, so the numbers are the numpy path's to rounding and to 1e-30. Off by default: numba's start-up
-        (about 0.5 s per process) repays only in processes that load numba anyway and evaluate frame after frame:
-        ``voxpose predict`` (``voxpose.apply.model_file.load_model`` turns it on). ``fit`` never uses it.
+        (about 0.5 s per process) repays only in processes that evaluate many frames, ``voxpose features`` and
+        ``voxpose predict`` (``FeatureModel.compiled`` turns it on). ``fit`` never uses it.
 
     Attributes
     ----------
