@@ -359,8 +359,9 @@ def test_quick_tables_equal_the_reference_run(quick_run, name):
     stage): a refactoring changes no number. Text cells and integers are compared exactly, real numbers to 1e-9
     relative: OpenBLAS picks its kernels by CPU, and two CPUs sum in other orders (an AMD EPYC and the machine
     that wrote the files differ from the 11th digit on). A deliberate change of results replaces the files in
-    ``tests/workflow/reference/`` with the new run's and says why in its commit (last: the width selection's candidates
-    at 500 moves instead of 1000, issue 22: the quick Table 1's MPPCA + MVRVM 4.99 -> 5.09 deg)."""
+    ``tests/workflow/reference/`` with the new run's and says why in its commit (last: ``voxpose features`` on the
+    screened compiled MPPCA path, issue 22: features move by ~4e-15 and the quick Table 1's unconverged MVRVM fit
+    follows them, MPPCA + MVRVM 5.091741 -> 5.091729 deg)."""
     found = list(csv.reader((quick_run / f"results/tables/{name}.csv").open()))
     expected = list(csv.reader((REFERENCE / f"{name}.csv").open()))
     assert [len(row) for row in found] == [len(row) for row in expected]
