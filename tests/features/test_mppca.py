@@ -426,5 +426,7 @@ def test_float32_screen_keeps_every_component_above_1e_30_where_rounding_is_tens
     assert numpy_proba[proba == 0.0].max(initial=0.0) < 1e-30
     np.testing.assert_allclose(score, numpy_score, rtol=1e-12)
     proj, screen = compiled._screen_cache
+    n_kept = np.concatenate([n for _, _, n in mppca_module._scored_chunks(rows, proj, screen, 128)])
+    assert (n_kept >= live.sum(axis=1)).all() and (n_kept == 2).all()  # the far component is screened out
     compiled._screen_cache = (proj, screen._replace(gamma=0.0))
     assert (compiled.predict_proba(rows)[live] == 0.0).any()

@@ -184,8 +184,9 @@ def _screen(proj):
 
 
 def _scored_chunks(X, proj, screen, chunk_size):
-    """Yield ``(resp, log_p)`` per chunk of rows of ``X`` by the compiled kernel: a float32 product screens the
-    components, the kept ones are evaluated in float64 (:mod:`voxpose.features.mppca_kernels`)."""
+    """Yield ``(resp, log_p, n_kept)`` per chunk of rows of ``X`` by the compiled kernel: a float32 product screens
+    the components, the ``n_kept`` (c,) of each row are evaluated in float64 (:mod:`voxpose.features.mppca_kernels`).
+    """
     n_latent = proj.chol.shape[1]
     for start in range(0, X.shape[0], chunk_size):
         rows = X[start : start + chunk_size]
@@ -193,9 +194,10 @@ def _scored_chunks(X, proj, screen, chunk_size):
         np.subtract(rows, proj.offset, out=x1[:, :-1])
         prod32 = x1.astype(np.float32) @ screen.stack32
         resp, log_p = np.empty((len(x1), proj.means.shape[0])), np.empty(len(x1))
+        n_kept = np.empty(len(x1), dtype=np.int64)
         mppca_kernels.screened_posterior(prod32, x1, screen.stack_rows, screen.col_norm, screen.gamma,
-                                         proj.noise_variance, proj.log_norm, n_latent, resp, log_p)  # fmt: skip
-        yield resp, log_p
+                                         proj.noise_variance, proj.log_norm, n_latent, resp, log_p, n_kept)  # fmt: skip
+        yield resp, log_p, n_kept
 
 
 def _exp(a):
@@ -633,7 +635,7 @@ class MPPCA:
         """``(resp, log_p)`` per chunk: the compiled screened kernel with ``compiled`` (and the kernels enabled),
         else the numpy path."""
         if self.compiled and use_numba():
-            return _scored_chunks(X, proj, self._screening(), chunk)
+            return ((resp, log_p) for resp, log_p, _ in _scored_chunks(X, proj, self._screening(), chunk))
         return ((resp, log_p) for _, resp, log_p, _, _ in _posterior_chunks(X, proj, chunk))
 
     def score_samples(self, X):

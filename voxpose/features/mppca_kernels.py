@@ -63,9 +63,10 @@ def _exact_joint(x1, row, stack_rows, k, sqnorm, noise_variance, log_norm, n_lat
 
 
 @jit
-def screened_posterior(prod32, x1, stack_rows, col_norm, gamma, noise_variance, log_norm, n_latent, resp,
-                       log_p):  # fmt: skip  # pragma: no cover (compiled)
-    """Fill ``resp`` (c, K) and ``log_p`` (c,) for the rows ``x1`` (c, d + 1, shifted, with the column of ones).
+def screened_posterior(prod32, x1, stack_rows, col_norm, gamma, noise_variance, log_norm, n_latent, resp, log_p,
+                       n_kept):  # fmt: skip  # pragma: no cover (compiled)
+    """Fill ``resp`` (c, K), ``log_p`` (c,) and ``n_kept`` (c,), the components evaluated in float64 per row, for the
+    rows ``x1`` (c, d + 1, shifted, with the column of ones).
 
     ``prod32`` (c, K (q + 1)) float32 ``x1 @ stack`` in the projection's column order (K means, then K blocks of q);
     ``stack_rows`` (K, d + 1, q + 1) float64, component k's columns side by side (mean first); ``col_norm``
@@ -109,9 +110,11 @@ def screened_posterior(prod32, x1, stack_rows, col_norm, gamma, noise_variance, 
                 best_lower = value - bound
         cut = best_lower - SCREEN_NATS
         peak = -np.inf
+        n_kept[i] = 0
         for k in range(n_components):
             kept[k] = not finite or approx[k] + err[k] >= cut
             if kept[k]:
+                n_kept[i] += 1
                 value = _exact_joint(x1, i, stack_rows, k, sqnorm, noise_variance, log_norm, n_latent, acc)
                 joint[k] = value
                 if value > peak:
