@@ -2,9 +2,9 @@
 
 A few hot loops (carving: ``voxels.carve_kernels``; the basis voxels: ``voxels.surface_kernels``; the body frame's
 resampling: ``descriptors.body_frame_kernels``; the 3D shape context votes: ``descriptors.lut_kernels``; the root
-fit's climb: ``apply.root_fit_kernels``; the MPPCA's posterior in predict: ``features.mppca_kernels``; the
-silhouette contour's farthest-point sampling: ``descriptors.contour_kernels``) have a
-numba kernel next to their numpy code; both give the same numbers (the tests compare them; the MPPCA's to
+fit's climb: ``apply.root_fit_kernels``; the MPPCA's posterior in its fit, in ``voxpose features`` and in predict:
+``features.mppca_kernels``; the silhouette contour's farthest-point sampling: ``descriptors.contour_kernels``) have
+a numba kernel next to their numpy code; both give the same numbers (the tests compare them; the MPPCA's to
 rounding). The compiled kernel runs when numba is importable and the environment
 variable ``VOXPOSE_KERNELS`` is unset or ``numba``; ``VOXPOSE_KERNELS=numpy`` selects the numpy paths (for
 comparison, or where numba cannot be installed). The variable is read at each call, so tests can switch it.

@@ -28,14 +28,14 @@ def test_feature_model_file_layout_and_read_back(tmp_path, method, array_names, 
     assert sorted(arrays) == array_names and list(meta) == meta_keys
     assert meta["n_fit"] == 500 and meta["n_train"] == 800
     frames = np.repeat(np.arange(8), 100)
-    fitted, counts = model.transform(descriptors, frames, 8)
-    loaded, loaded_counts = FeatureModel.load(tmp_path / "features.h5").transform(descriptors, frames, 8)
+    fitted, counts = model.transform(descriptors, frames, 8)  # a fitted MPPCA scores on the compiled path
+    loaded, loaded_counts = FeatureModel.load(tmp_path / "features.h5").compiled().transform(descriptors, frames, 8)
     np.testing.assert_array_equal(loaded, fitted)
     np.testing.assert_array_equal(loaded_counts, counts)
     np.testing.assert_allclose(fitted.sum(axis=1), 1.0)
-    compiled, compiled_counts = FeatureModel.load(tmp_path / "features.h5").compiled().transform(descriptors, frames, 8)
-    np.testing.assert_allclose(compiled, fitted, rtol=1e-12, atol=1e-30)  # the screened path: rounding and 1e-30
-    np.testing.assert_array_equal(compiled_counts, counts)
+    numpy_path, numpy_counts = FeatureModel.load(tmp_path / "features.h5").transform(descriptors, frames, 8)
+    np.testing.assert_allclose(numpy_path, fitted, rtol=1e-12, atol=1e-30)  # the screened path: rounding and 1e-30
+    np.testing.assert_array_equal(numpy_counts, counts)
     assert getattr(FeatureModel.load(tmp_path / "features.h5").compiled().estimator, "compiled", None) is (
         True if method == "mppca" else None
     )

@@ -430,3 +430,46 @@ def test_float32_screen_keeps_every_component_above_1e_30_where_rounding_is_tens
     assert (n_kept >= live.sum(axis=1)).all() and (n_kept == 2).all()  # the far component is screened out
     compiled._screen_cache = (proj, screen._replace(gamma=0.0))
     assert (compiled.predict_proba(rows)[live] == 0.0).any()
+
+
+@pytest.mark.parametrize("dataset", ["separated", "overlapping", "far"])
+def test_screened_statistics_equal_the_numpy_paths(dataset):
+    """The compiled E-step (``mppca_kernels.screened_moments``) against ``_accumulate``'s numpy path and against
+    sums formed directly from the dense reference's responsibilities (those >= 1e-30): the same statistics to
+    rounding, on well separated clusters (one component per row), overlapping ones (several live per row), and
+    rows far from every component (most terms underflow), across chunk boundaries."""
+    X = planted_mixture(16, [300, 300, 300])[0] if dataset == "separated" else overlapping_clusters(16)
+    model = MPPCA(3, n_latent=2, max_iter=3, random_state=0).fit(X)
+    if dataset == "far":
+        X = np.concatenate([X, X[:60] * 40.0])
+    proj = mppca_module._project(mppca_module._Params(*params(model)))
+    numpy_stats = mppca_module._accumulate(X, proj, chunk_size=37)
+    screened = mppca_module._accumulate(X, proj, 37, mppca_module._screen(proj))
+    for name in numpy_stats._fields:
+        np.testing.assert_allclose(getattr(screened, name), getattr(numpy_stats, name), rtol=1e-11, atol=1e-9)
+    reference = dense_log_joint(X, *params(model))
+    log_p = logsumexp(reference, axis=1)
+    R = np.exp(reference - log_p[:, None])
+    R[R < 1e-30] = 0.0
+    shifted = X - proj.offset
+    np.testing.assert_allclose(screened.counts, R.sum(axis=0), rtol=1e-9)
+    np.testing.assert_allclose(screened.sums, R.T @ shifted, rtol=1e-9, atol=1e-9)
+    sqdist = ((shifted[:, None, :] - proj.means[None]) ** 2).sum(axis=2)
+    np.testing.assert_allclose(screened.sqdist, (R * sqdist).sum(axis=0), rtol=1e-9)
+    np.testing.assert_allclose(screened.log_likelihood, log_p.sum(), rtol=1e-10)
+
+
+def test_compiled_fit_follows_the_numpy_fit(monkeypatch):
+    """``compiled=True`` fits on the screened E-step: the same EM (iterations, likelihoods, parameters to rounding
+    carried through the iterations) as the numpy path, which ``VOXPOSE_KERNELS=numpy`` restores bit for bit."""
+    X = overlapping_clusters(17, n_per=200)
+    numpy_fit = MPPCA(4, n_latent=2, max_iter=15, tol=0.0, random_state=0).fit(X)
+    compiled = MPPCA(4, n_latent=2, max_iter=15, tol=0.0, random_state=0, compiled=True).fit(X)
+    assert compiled.n_iter_ == numpy_fit.n_iter_ == 15
+    np.testing.assert_allclose(compiled.log_likelihood_, numpy_fit.log_likelihood_, rtol=1e-10)
+    for a, b in zip(params(compiled), params(numpy_fit), strict=True):
+        np.testing.assert_allclose(a, b, rtol=1e-6, atol=1e-9)
+    monkeypatch.setenv("VOXPOSE_KERNELS", "numpy")
+    fallback = MPPCA(4, n_latent=2, max_iter=15, tol=0.0, random_state=0, compiled=True).fit(X)
+    for a, b in zip(params(fallback), params(numpy_fit), strict=True):
+        np.testing.assert_array_equal(a, b)

@@ -99,7 +99,7 @@ class FeatureModel:
         if method == "mppca":
             model = MPPCA(
                 cfg["n_components"], n_latent=cfg["n_latent"], max_iter=cfg["max_iter"], tol=cfg["tol"],
-                random_state=seed,
+                random_state=seed, compiled=True,  # EM evaluates every row each iteration: the kernel repays
             ).fit(rows)  # fmt: skip
             rule = None
         else:

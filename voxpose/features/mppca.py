@@ -94,7 +94,8 @@ def _project(params, dtype=np.float64):
     float32 exists for ``benchmarks/bench_mppca.py``, which measures why it is not offered: on paper-sized
     data it is at most about 1.5x faster, but moves log densities by up to 0.08 and responsibilities by up to
     7e-3 (the ``|x|^2 - 2 x.mu + |mu|^2`` cancellation, divided by sigma^2 ~ 1e-5). The compiled scoring path
-    (``_scored_chunks``) takes a float32 product only to rule components out, with a proven error bound.
+    (``_scored_chunks``, ``_accumulate`` with a screen) takes a float32 product only to rule components out, with a
+    proven error bound.
     """
     n_components, n_features, n_latent = params.components.shape
     offset = params.weights @ params.means
@@ -183,16 +184,22 @@ def _screen(proj):
                    mppca_kernels.rounding_factor(stack.shape[0]))  # fmt: skip
 
 
+def _screened_products(X, proj, screen, chunk_size):
+    """Yield ``(x1, prod32)`` per chunk of rows of ``X``: the shifted rows with a column of ones (float64) and their
+    float32 product with the stack, the compiled kernels' inputs (:mod:`voxpose.features.mppca_kernels`)."""
+    for start in range(0, X.shape[0], chunk_size):
+        rows = X[start : start + chunk_size]
+        x1 = np.ones((rows.shape[0], rows.shape[1] + 1))
+        np.subtract(rows, proj.offset, out=x1[:, :-1])
+        yield x1, x1.astype(np.float32) @ screen.stack32
+
+
 def _scored_chunks(X, proj, screen, chunk_size):
     """Yield ``(resp, log_p, n_kept)`` per chunk of rows of ``X`` by the compiled kernel: a float32 product screens
     the components, the ``n_kept`` (c,) of each row are evaluated in float64 (:mod:`voxpose.features.mppca_kernels`).
     """
     n_latent = proj.chol.shape[1]
-    for start in range(0, X.shape[0], chunk_size):
-        rows = X[start : start + chunk_size]
-        x1 = np.ones((rows.shape[0], rows.shape[1] + 1))
-        np.subtract(rows, proj.offset, out=x1[:, :-1])
-        prod32 = x1.astype(np.float32) @ screen.stack32
+    for x1, prod32 in _screened_products(X, proj, screen, chunk_size):
         resp, log_p = np.empty((len(x1), proj.means.shape[0])), np.empty(len(x1))
         n_kept = np.empty(len(x1), dtype=np.int64)
         mppca_kernels.screened_posterior(prod32, x1, screen.stack_rows, screen.col_norm, screen.gamma,
@@ -249,19 +256,29 @@ def _chunk_moments(x1, resp, latent, sqdist):
     return Gt.T @ x1, np.bincount(comps, weights=weight * sqdist[rows, comps], minlength=n_components)
 
 
-def _accumulate(X, proj, chunk_size):
-    """E-step: responsibilities ``R_ni`` of every row and the sufficient statistics of the M-step, chunked."""
+def _accumulate(X, proj, chunk_size, screen=None):
+    """E-step: responsibilities ``R_ni`` of every row and the sufficient statistics of the M-step, chunked.
+
+    With ``screen`` (a ``_Screen`` of ``proj``) the compiled kernel forms them from the screened posterior
+    (``mppca_kernels.screened_moments``): the same pairs (``R_ni >= _NEGLIGIBLE``) and sums, to rounding.
+    """
     n_components = proj.means.shape[0]
     n_latent = proj.chol.shape[1]
     n_features = X.shape[1]
     moments = np.zeros((n_components * (n_latent + 1), n_features + 1))
     sqdist_sum = np.zeros(n_components)
     total = 0.0
-    for x1, resp, log_p, latent, sqdist in _posterior_chunks(X, proj, chunk_size):
-        chunk_moments, chunk_sqdist = _chunk_moments(x1, resp, latent, sqdist)
-        moments += chunk_moments
-        sqdist_sum += chunk_sqdist
-        total += float(log_p.sum())
+    if screen is not None:
+        for x1, prod32 in _screened_products(X, proj, screen, chunk_size):
+            total += mppca_kernels.screened_moments(prod32, x1, screen.stack_rows, screen.col_norm, screen.gamma,
+                                                    proj.noise_variance, proj.log_norm, n_latent, _NEGLIGIBLE,
+                                                    moments, sqdist_sum)  # fmt: skip
+    else:
+        for x1, resp, log_p, latent, sqdist in _posterior_chunks(X, proj, chunk_size):
+            chunk_moments, chunk_sqdist = _chunk_moments(x1, resp, latent, sqdist)
+            moments += chunk_moments
+            sqdist_sum += chunk_sqdist
+            total += float(log_p.sum())
     moments = moments.reshape(n_components, n_latent + 1, n_features + 1)
     return _Statistics(
         counts=moments[:, n_latent, n_features],
@@ -415,12 +432,13 @@ class MPPCA:
     random_state : int, numpy Generator or None
         Seed of the k-means++ draws and of the (q = 0) re-seeding directions.
     compiled : bool
-        ``score_samples``, ``predict_proba`` and ``proba_and_score`` run the compiled kernel
+        ``fit``'s E-step, ``score_samples``, ``predict_proba`` and ``proba_and_score`` run the compiled kernels
         (:mod:`voxpose.features.mppca_kernels`, when :mod:`voxpose.kernels` allows it): a float32 product screens
-        out the components whose responsibility is provably below 1e-30 (they get 0), the rest are evaluated in
-        float64, so the numbers are the numpy path's to rounding and to 1e-30. Off by default: numba's start-up
-        (about 0.5 s per process) repays only in processes that evaluate many frames, ``voxpose features`` and
-        ``voxpose predict`` (``FeatureModel.compiled`` turns it on). ``fit`` never uses it.
+        out the components whose responsibility is provably below 1e-30 (they get 0; the E-step drops those
+        anyway), the rest are evaluated in float64, so the numbers are the numpy path's to rounding and to 1e-30.
+        Off by default: numba's start-up (about 0.5 s per process) repays only in processes that evaluate many
+        rows: the feature fit (``FeatureModel.fit_rows``; every row in every EM iteration), ``voxpose features``
+        and ``voxpose predict`` (``FeatureModel.compiled``).
 
     Attributes
     ----------
@@ -529,8 +547,9 @@ class MPPCA:
         if n_reseeded:
             params = _reseed(params, reseeded, rng)
             log.info("MPPCA initialisation: re-seeded %d starved components", n_reseeded)
+        screened = self.compiled and use_numba()
         proj = _project(params)
-        stats = _accumulate(X, proj, chunk)
+        stats = _accumulate(X, proj, chunk, _screen(proj) if screened else None)
         history = [stats.log_likelihood / n_samples]
         log.info("MPPCA initialisation: mean log-likelihood %.6f", history[0])
         n_iter, converged = 0, False
@@ -543,7 +562,7 @@ class MPPCA:
                 reseeded |= starved
                 params = _reseed(params, starved, rng)
             proj = _project(params)
-            stats = _accumulate(X, proj, chunk)
+            stats = _accumulate(X, proj, chunk, _screen(proj) if screened else None)
             history.append(stats.log_likelihood / n_samples)
             change = history[-1] - history[-2]
             converged = not starved.any() and abs(change) <= self.tol * abs(history[-2])
