@@ -466,6 +466,7 @@ def test_compiled_fit_follows_the_numpy_fit(monkeypatch):
     numpy_fit = MPPCA(4, n_latent=2, max_iter=15, tol=0.0, random_state=0).fit(X)
     compiled = MPPCA(4, n_latent=2, max_iter=15, tol=0.0, random_state=0, compiled=True).fit(X)
     assert compiled.n_iter_ == numpy_fit.n_iter_ == 15
+    assert not np.array_equal(compiled.means_, numpy_fit.means_)  # the fit did take the compiled E-step
     np.testing.assert_allclose(compiled.log_likelihood_, numpy_fit.log_likelihood_, rtol=1e-10)
     for a, b in zip(params(compiled), params(numpy_fit), strict=True):
         np.testing.assert_allclose(a, b, rtol=1e-6, atol=1e-9)

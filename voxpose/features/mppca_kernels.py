@@ -168,7 +168,7 @@ def screened_moments(prod32, x1, stack_rows, col_norm, gamma, noise_variance, lo
         inverse_total = 1.0 / total
         for k in range(n_components):
             weight = terms[k] * inverse_total
-            if not kept[k] or not weight >= negligible:
+            if not weight >= negligible:  # screened components have weight 0
                 continue
             base = k * (n_latent + 1)
             for j in range(n_latent):
