@@ -160,3 +160,22 @@ def test_threads_are_set_before_numpy_is_imported_and_only_the_command_is_import
     proc = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, env=env, capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.split() == ["2", "3", "3", "True", "False"]
+
+
+def test_predicting_commands_import_neither_pandas_nor_scipy_linalg():
+    """``voxpose evaluate`` (51 jobs of a default run, ~1 s each) loads a fitted MVRVM and its baselines and writes
+    the predicted angles: pandas (0.15 s) and scipy.linalg (0.12 s) are imported only by the code that fits."""
+    script = (
+        "import sys\n"
+        "import voxpose.cli.evaluate, voxpose.evaluation.run, voxpose.evaluation.angles_csv\n"
+        "print('pandas' in sys.modules, 'scipy.linalg' in sys.modules)\n"
+        "from voxpose.regression import baselines, mvrvm\n"
+        "import numpy as np\n"
+        "baselines.cholesky_solve(np.eye(2), np.ones(2))\n"
+        "x = np.random.default_rng(0).normal(size=(40, 2))\n"
+        "mvrvm.select_kernel_width(x, x[:, 0], scales=(1.0,), random_state=0, max_iter=5)\n"
+        "print('pandas' in sys.modules, 'scipy.linalg' in sys.modules)\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.split() == ["False", "False", "True", "True"]

@@ -31,8 +31,8 @@ def add_arguments(p):
 
 
 def run(args):
+    from voxpose.evaluation.angles_csv import write_angles
     from voxpose.evaluation.run import Fit
-    from voxpose.evaluation.tables import write_angles
     from voxpose.io.atomic import atomic_path
     from voxpose.io.hdf5 import read_per_motion, write_per_motion
     from voxpose.motion.data import read_motion

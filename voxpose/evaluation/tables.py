@@ -197,15 +197,3 @@ def _markdown(df: pd.DataFrame) -> str:
     rule = "|" + "|".join("---" for _ in df.columns) + "|"
     body = ["| " + " | ".join(cell(v) for v in row) + " |" for row in df.itertuples(index=False)]
     return "\n".join([header, rule, *body])
-
-
-def write_angles(predictions: dict, path) -> None:
-    """The MVRVM's predicted angles of every test frame (degrees; NaN at gaps) as CSV: motion, frame, 42 angles."""
-    frames = []
-    for name, p in predictions.items():
-        df = pd.DataFrame(p["pred_mvrvm"], columns=canon.ANGLE_NAMES)
-        df.insert(0, "frame", range(len(df)))
-        df.insert(0, "motion", name)
-        frames.append(df)
-    with atomic_path(path) as tmp:
-        pd.concat(frames).to_csv(tmp, index=False, float_format="%.4f")

@@ -11,7 +11,6 @@
 import logging
 
 import numpy as np
-import scipy.linalg
 
 from voxpose.errors import VoxposeError
 from voxpose.regression.kernels import gaussian_kernel, median_pairwise_distance, selection_split
@@ -41,6 +40,8 @@ def cholesky_solve(a: np.ndarray, b: np.ndarray, ridge: float = 0.0) -> np.ndarr
     of ``a`` per attempt, its diagonal shifted in place and factored in place (no identity matrices, no second
     copy for LAPACK): on an unthinned real training set (~10^4 rows) each N x N array is 0.8 GB.
     """
+    import scipy.linalg  # here, not at the top: jobs that only predict never solve and skip its 0.12 s import
+
     diagonal = np.diag(a) + ridge
     scale = float(np.mean(diagonal))
     jitter = 0.0
