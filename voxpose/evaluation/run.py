@@ -260,7 +260,7 @@ def fit(features: dict, motions: dict, train: list, cfg: dict, seed: int) -> Fit
         "pose_variance": float(pca.explained_variance_ratio_.sum()),
         "n_relevance": len(model.relevance_),
         "kernel_width": float(model.kernel_width_),
-        "width_selection": None if width_table is None else width_table.to_dict(orient="records"),
+        "width_selection": width_table,
         "mvrvm": {
             "n_iter": int(model.n_iter_),
             "converged": bool(model.converged_),
