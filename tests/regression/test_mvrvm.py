@@ -11,7 +11,7 @@ from tests.helpers import mvrvm_log_ml, mvrvm_toy
 from voxpose.errors import ConvergenceWarning, NotFittedError, VoxposeError
 from voxpose.io.hdf5 import read_arrays, write_arrays
 from voxpose.regression.kernels import design_matrix, gaussian_kernel, holdout_split, median_pairwise_distance
-from voxpose.regression.mvrvm import MVRVM, select_kernel_width
+from voxpose.regression.mvrvm import MVRVM, _best_width, select_kernel_width
 
 
 def fitted_basis(model, x_train):
@@ -222,6 +222,17 @@ def test_select_kernel_width_uses_held_out_rows():
     groups = np.repeat(np.arange(6), 20)
     width_g, table_g, _ = select_kernel_width(x, y, widths=[1.0, 2.0], groups=groups, random_state=0)
     assert width_g in (1.0, 2.0) and all(np.isnan(row["scale"]) for row in table_g)
+
+
+def test_best_width_prefers_lower_error_then_smaller_width_and_never_nan():
+    def rows(*pairs):
+        return [{"width": w, "val_rmse": e} for w, e in pairs]
+
+    assert _best_width(rows((1.0, 3.0), (2.0, 2.0), (0.5, 4.0))) == 1  # lowest error
+    assert _best_width(rows((2.0, 2.0), (1.0, 2.0))) == 1  # a tie goes to the smaller width
+    assert _best_width(rows((1.0, 2.0), (1.0, 2.0))) == 0  # then to the earlier record
+    assert _best_width(rows((0.5, np.nan), (1.0, 9.0))) == 1  # NaN never wins
+    assert _best_width(rows((1.0, np.nan), (0.5, np.nan))) == 1  # all NaN: the smaller width
 
 
 def test_select_kernel_width_on_drawn_rows_is_the_selection_on_those_rows():

@@ -533,10 +533,12 @@ def select_kernel_width(
                 "converged": bool(model.converged_),
             }
         )
-
-    def rank(i):  # lowest RMSE, ties to the smaller width, then to the earlier row; a NaN RMSE never wins
-        rmse = rows[i]["val_rmse"]
-        return (np.isnan(rmse), 0.0 if np.isnan(rmse) else rmse, rows[i]["width"], i)
-
-    best = min(range(len(rows)), key=rank)
+    best = _best_width(rows)
     return float(rows[best]["width"]), rows, (models[best], fit_rows)
+
+
+def _best_width(rows: list[dict]) -> int:
+    """Index of the record with the lowest ``val_rmse``; ties go to the smaller ``width``, then to the earlier
+    record, and a NaN RMSE never wins (unless every one is NaN)."""
+    return min(range(len(rows)), key=lambda i: (np.isnan(rows[i]["val_rmse"]), np.nan_to_num(rows[i]["val_rmse"]),
+                                                rows[i]["width"], i))  # fmt: skip
