@@ -1,7 +1,5 @@
 """``python -m voxpose``: the same as the ``voxpose`` command."""
 
-import sys
+from voxpose.cli.process import run
 
-from voxpose.cli.main import main
-
-sys.exit(main())
+run()
