@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from tests.helpers import one_line_error, run_voxpose
+from voxpose.cli import main as cli
 from voxpose.motion import canon
 from voxpose.motion.data import read_motion
 from voxpose.voxels.cameras import circular_rig, save_rig
@@ -180,3 +181,25 @@ def test_predicting_commands_import_neither_pandas_nor_scipy_linalg():
     proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.split() == ["False", "False", "False", "True"]
+
+
+def test_a_user_error_reaches_stderr_in_one_write(monkeypatch, tmp_path):
+    """Jobs running side by side share Snakemake's stderr. With unbuffered streams (PYTHONUNBUFFERED=1, as on
+    our CI machines) ``print`` writes a line and its newline in two calls, and two jobs failing at once could
+    interleave as ``voxpose: error: A`` ``voxpose: error: B`` ``\\n`` ``\\n``: neither line whole. The error line
+    is one write (a pipe does not split writes below 4096 bytes)."""
+    writes = []
+
+    class Recorder:
+        def write(self, text):
+            writes.append(text)
+            return len(text)
+
+        def flush(self):
+            pass
+
+    monkeypatch.setattr(sys, "stderr", Recorder())
+    assert cli.main(["check-config", "--base", str(tmp_path / "missing.yaml")]) == 2
+    errors = [text for text in writes if "voxpose: error: " in text]
+    assert len(errors) == 1 and errors[0].startswith("voxpose: error: ") and "missing.yaml" in errors[0]
+    assert errors[0].count("\n") == 1 and "\n" not in writes

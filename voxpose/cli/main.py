@@ -129,7 +129,9 @@ def main(argv=None) -> int:
             root.removeHandler(handler)  # the error goes to stderr once, in the documented form
         root.addHandler(logging.NullHandler())
         log.error("error: %s", err)
-        print(f"voxpose: error: {err}", file=sys.stderr)
+        # one write, newline included: jobs running side by side share Snakemake's stderr, and with unbuffered
+        # streams (PYTHONUNBUFFERED) print() writes the newline separately, so two jobs' lines could interleave
+        sys.stderr.write(f"voxpose: error: {err}\n")
         return 2
     return status or 0
 
