@@ -36,7 +36,7 @@ def test_the_process_raises_the_young_threshold_freezes_at_exit_and_keeps_the_st
         assert proc.stderr.strip().splitlines()[-1].startswith("voxpose: error: ")
 
 
-def test_main_in_a_process_of_its_own_keeps_the_collector_as_it_was(tmp_path):
+def test_main_called_in_process_keeps_the_collector_as_it_was():
     """Tests and programs call ``main`` in their own process: it changes neither threshold nor permanent
     generation."""
     before = gc.get_threshold(), gc.get_freeze_count()

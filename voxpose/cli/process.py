@@ -11,12 +11,12 @@ default run (175 frames, 2-core VM, idle; numba's cached kernels):
   then every output is written and closed, and the operating system frees the memory at once;
 - during the run: 224 young, 20 middle and 2 full collections, 0.10 s (``gc.callbacks``), against 15, 1 and
   0 collections, 0.05 s, when a young collection waits for 10,000 net new container objects instead of 700
-  (``YOUNG_THRESHOLD``). The numbers the job writes do not depend on when cycles are collected, and the code
-  between collections works on numpy arrays, which hold no references, so garbage waits a little longer at
-  no cost in memory.
+  (``YOUNG_THRESHOLD``). The numbers the job writes do not depend on when cycles are collected; cyclic
+  garbage (rare: the numerical code works on numpy arrays, which hold no references) is freed later.
 
-The whole job took 2.20 s before and 1.88 s after (median of 8 alternated runs, CPU 2.19 and 1.86 s). ``main``
-itself keeps the interpreter's defaults: tests and other programs call it inside their own process.
+``benchmarks/bench_process.py`` times a command through both entries: on that describe job 2.00 s wall through
+``main`` and 1.74 s through ``run`` (median of 8 alternated runs, CPU 1.99 and 1.74 s). ``main`` itself keeps
+the interpreter's defaults: tests and other programs call it inside their own process.
 """
 
 import gc
