@@ -11,6 +11,7 @@ from scipy.stats import multivariate_normal
 
 import voxpose.features.mppca as mppca_module
 from voxpose.errors import ConvergenceWarning, NotFittedError, VoxposeError
+from voxpose.features import mppca_kernels
 from voxpose.features.mppca import MPPCA
 
 # most fits here stop after a few EM steps on purpose; test_a_fit_stopped_by_max_iter_warns checks the warning
@@ -474,3 +475,19 @@ def test_compiled_fit_follows_the_numpy_fit(monkeypatch):
     fallback = MPPCA(4, n_latent=2, max_iter=15, tol=0.0, random_state=0, compiled=True).fit(X)
     for a, b in zip(params(fallback), params(numpy_fit), strict=True):
         np.testing.assert_array_equal(a, b)
+
+
+def test_the_screen_groups_the_latent_columns_by_coordinate():
+    """``mppca_kernels.screen_order``: the projection's stack has K mean columns, then component k's latent
+    coordinate j at K + k q + j; the screen's float32 stack holds the means, then every component's coordinate 0,
+    then every component's coordinate 1 (K = 3, q = 2 written out), with the float64 column norms alongside."""
+    np.testing.assert_array_equal(mppca_kernels.screen_order(3, 2), [0, 1, 2, 3, 5, 7, 4, 6, 8])
+    np.testing.assert_array_equal(mppca_kernels.screen_order(2, 0), [0, 1])
+    model = MPPCA(3, n_latent=2, max_iter=3, random_state=0).fit(overlapping_clusters(2))
+    proj = model._projection()
+    screen = mppca_module._screen(proj)
+    order = [0, 1, 2, 3, 5, 7, 4, 6, 8]
+    np.testing.assert_array_equal(screen.stack32, proj.stack[:, order].astype(np.float32))
+    np.testing.assert_allclose(screen.col_norm, np.linalg.norm(proj.stack[:, order], axis=0), rtol=1e-15)
+    for k in range(3):  # the exact evaluation's columns: component k's mean, then its latent coordinates
+        np.testing.assert_array_equal(screen.stack_rows[k], proj.stack[:, [k, 3 + 2 * k, 4 + 2 * k]])

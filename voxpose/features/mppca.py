@@ -163,8 +163,9 @@ def _posterior_chunks(X, proj, chunk_size):
 class _Screen(NamedTuple):
     """The compiled scoring path's constants of one projection (:mod:`voxpose.features.mppca_kernels`).
 
-    stack32 the projection's stack in float32; stack_rows (K, d + 1, q + 1) each component's stack columns side by
-    side (mean first); col_norm (K (q + 1),) the stack's column norms; gamma the float32 dot product's error factor.
+    stack32 the projection's stack in float32, its columns in ``mppca_kernels.screen_order``; stack_rows
+    (K, d + 1, q + 1) each component's stack columns side by side (mean first); col_norm (K (q + 1),) the column
+    Euclidean norms of those columns (of the float64 stack); gamma the float32 dot product's error factor.
     """
 
     stack32: np.ndarray
@@ -180,7 +181,9 @@ def _screen(proj):
     rows = np.empty((n_components, stack.shape[0], n_latent + 1))
     rows[:, :, 0] = stack[:, :n_components].T
     rows[:, :, 1:] = stack[:, n_components:].reshape(stack.shape[0], n_components, n_latent).transpose(1, 0, 2)
-    return _Screen(stack.astype(np.float32), rows, np.sqrt(np.einsum("ij,ij->j", stack, stack)),
+    order = mppca_kernels.screen_order(n_components, n_latent)
+    screened = stack[:, order]
+    return _Screen(screened.astype(np.float32), rows, np.sqrt(np.einsum("ij,ij->j", screened, screened)),
                    mppca_kernels.rounding_factor(stack.shape[0]))  # fmt: skip
 
 
