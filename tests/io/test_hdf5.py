@@ -111,7 +111,8 @@ def test_a_motion_of_no_frames_is_neither_written_nor_read(tmp_path):
 @pytest.mark.parametrize("n_rows", [0, 1, 3000, 9000])
 def test_ragged_arrays_are_chunked_by_whole_rows_and_round_trip(tmp_path, n_rows):
     """Descriptor files' chunks span every column (a row is read from one chunk), hold about 1 MiB (whole rows,
-    never more rows than there are), and the values round-trip, an empty file's too."""
+    never more rows than there are), are stored uncompressed as float32 and int32, and the values round-trip
+    (float64 descriptors as their float32 rounding), an empty file's too."""
     rng = np.random.default_rng(n_rows)
     cuts = np.sort(rng.integers(0, n_rows + 1, size=4))
     rows, ijk = rng.random((n_rows, 200)), rng.integers(0, 50, (n_rows, 3))
@@ -119,6 +120,8 @@ def test_ragged_arrays_are_chunked_by_whole_rows_and_round_trip(tmp_path, n_rows
     write_descriptors(tmp_path / "d.h5", frames, np.split(ijk, cuts), {"n": n_rows})
     with h5py.File(tmp_path / "d.h5") as f:
         chunks, ijk_chunks = f["descriptors"].chunks, f["basis_ijk"].chunks
+        assert f["descriptors"].compression is None and f["basis_ijk"].compression is None
+        assert (f["descriptors"].dtype, f["basis_ijk"].dtype) == (np.float32, np.int32)
     if n_rows:
         assert chunks == (min(n_rows, 2**20 // (200 * 4)), 200)  # float32 rows of 800 bytes
         assert ijk_chunks == (min(n_rows, 2**20 // 12), 3)

@@ -294,7 +294,7 @@ def test_same_config_gives_identical_tables(quick_run):
 
 def _damage(path, how):
     """Damage a cache file as a failing disk or an interrupted copy would, keeping its timestamp (so that Snakemake
-    sees nothing): cut its last third, or invert 16 bytes inside the first compressed chunk of its descriptors."""
+    sees nothing): cut its last third, or invert 16 bytes inside the first stored chunk of its descriptors."""
     stat = path.stat()
     data = bytearray(path.read_bytes())
     if how == "truncate":
