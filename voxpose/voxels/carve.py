@@ -41,7 +41,6 @@ import itertools
 import math
 
 import numpy as np
-from scipy import ndimage
 
 from voxpose.errors import VoxposeError
 from voxpose.kernels import use_numba
@@ -298,15 +297,31 @@ def _within(grid, span):
     return (grid[:, 0] <= span[0]) & (grid[:, 1] <= span[1]) & (grid[:, 2] <= span[2])
 
 
-_SQUARE = np.ones((1, 3, 3), dtype=bool)
-
-
 def _dilate(sil):
-    return ndimage.binary_dilation(sil, _SQUARE)
+    """Each silhouette (C, H, W) dilated by the 3 x 3 square: a pixel is set if any of its 8 neighbours or itself
+    is (rows, then columns: the square is separable); ``scipy.ndimage.binary_dilation`` with that square, without
+    importing scipy.ndimage (0.2-0.3 s in every voxelize job)."""
+    rows = sil.copy()
+    rows[:, 1:] |= sil[:, :-1]
+    rows[:, :-1] |= sil[:, 1:]
+    out = rows.copy()
+    out[:, :, 1:] |= rows[:, :, :-1]
+    out[:, :, :-1] |= rows[:, :, 1:]
+    return out
 
 
 def _erode(sil):
-    return ndimage.binary_erosion(sil, _SQUARE, border_value=0)
+    """Each silhouette eroded by the 3 x 3 square, pixels outside the image counting as background: a pixel stays
+    set only if it and its 8 neighbours are (``scipy.ndimage.binary_erosion`` with ``border_value=0``)."""
+    rows = sil.copy()
+    rows[:, 1:] &= sil[:, :-1]
+    rows[:, :-1] &= sil[:, 1:]
+    rows[:, [0, -1]] = False
+    out = rows.copy()
+    out[:, :, 1:] &= rows[:, :, :-1]
+    out[:, :, :-1] &= rows[:, :, 1:]
+    out[:, :, [0, -1]] = False
+    return out
 
 
 def _NO_PIXELS(n_cams):  # noqa: N802 (a table constructor)
