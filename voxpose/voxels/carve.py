@@ -46,6 +46,7 @@ from voxpose.errors import VoxposeError
 from voxpose.kernels import use_numba
 from voxpose.voxels import carve_kernels
 from voxpose.voxels.cameras import Rig
+from voxpose.voxels.capture_volume import polytope_box
 from voxpose.voxels.lens import pinhole_twin
 
 _MAX_SUBSETS = 1000
@@ -70,7 +71,7 @@ def capture_bounds(rig: Rig, min_views: int | None = None) -> np.ndarray:
     """(2, 3) box (min, max corners, metres) of the points seen by at least ``min_views`` cameras.
 
     The union over every ``min_views``-subset of cameras of the bounding box of their frusta's
-    intersection (6 linear programs per subset); cached per rig. A subset whose frusta do not bound a
+    intersection (``voxels.capture_volume.polytope_box``); cached per rig. A subset whose frusta do not bound a
     region (parallel views, ``min_views=1``) is an error asking for explicit ``bounds``.
     """
     k = len(rig) if min_views is None else int(min_views)
@@ -82,24 +83,18 @@ def capture_bounds(rig: Rig, min_views: int | None = None) -> np.ndarray:
     n_subsets = math.comb(len(rig), k)
     if n_subsets > _MAX_SUBSETS:
         raise VoxposeError(f"carve: {n_subsets} camera subsets for min_views={k}; pass bounds= explicitly")
-    from scipy.optimize import linprog  # here: importing scipy.optimize costs about a second
-
     planes = _frustum_halfspaces(rig)
     box = np.array([[np.inf] * 3, [-np.inf] * 3])
     for subset in itertools.combinations(range(len(rig)), k):
         rows = planes[list(subset)].reshape(-1, 4)
-        for axis, sign in itertools.product(range(3), (1.0, -1.0)):
-            cost = np.zeros(3)
-            cost[axis] = sign
-            res = linprog(cost, A_ub=-rows[:, :3], b_ub=rows[:, 3], bounds=[(None, None)] * 3, method="highs")
-            if res.status != 0:
-                raise VoxposeError(
-                    f"carve: the views of rig {rig.name} do not bound a capture volume for min_views={k}; "
-                    "pass bounds= explicitly"
-                )
-            value = res.x[axis]
-            box[0, axis] = min(box[0, axis], value)
-            box[1, axis] = max(box[1, axis], value)
+        corners = polytope_box(-rows[:, :3], rows[:, 3])
+        if corners is None:
+            raise VoxposeError(
+                f"carve: the views of rig {rig.name} do not bound a capture volume for min_views={k}; "
+                "pass bounds= explicitly"
+            )
+        box[0] = np.minimum(box[0], corners[0])
+        box[1] = np.maximum(box[1], corners[1])
     _capture_cache[key] = box
     return box.copy()
 
