@@ -101,3 +101,14 @@ def test_farthest_points_equal_a_brute_force_sampling_ties_included(monkeypatch,
     blob |= (np.abs(xx - 55) < 4) & (yy > 10) & (yy < 60)
     for points, n in ((boundary_pixels(blob), 40), (rng.normal(size=(300, 2)), 25), (np.zeros((5, 2)), 3)):
         np.testing.assert_array_equal(farthest_points(points, n), _brute_force_farthest(points, n))
+
+
+def test_pixel_grid_offsets_on_the_bin_edges_vote_as_the_brute_force_says():
+    """Points on a pixel grid (a contour's): offsets straight right, up, left and down lie on angular bin edges
+    (0, 90, 180, 270 degrees with 12 bins) and must fall in the bins that start there, as in the reference;
+    a grid that also holds diagonal offsets (45 degrees, inside a bin) and offsets both left and right of each
+    point (angles from atan2 in (-180, 180], turned to [0, 360))."""
+    xs, ys = np.meshgrid(np.arange(6.0), np.arange(5.0))
+    points = np.stack([xs.ravel(), ys.ravel()], axis=1) * 3.0 + 10.0
+    np.testing.assert_array_equal(shape_contexts(points), brute_force(points))
+    np.testing.assert_array_equal(shape_contexts(points, n_theta=8), brute_force(points, n_theta=8))

