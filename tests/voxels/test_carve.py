@@ -145,20 +145,3 @@ def test_bad_arguments():
         Carver(rig, 0.03)(sil[:5])
     with pytest.raises(VoxposeError, match="boolean masks"):
         Carver(rig, 0.03)(sil.astype(np.uint8))
-
-
-@pytest.mark.parametrize("shape", [(6, 40, 50), (2, 1, 1), (1, 2, 5), (3, 3, 3), (1, 9, 1)])
-def test_window_masks_equal_scipy_binary_morphology_with_the_3x3_square(shape):
-    """The carver's dilated and eroded silhouettes (its window bounds) against scipy.ndimage's binary dilation and
-    erosion (border pixels count as background) with the 3 x 3 square, per camera, on random masks of every
-    density, images one pixel wide or tall included."""
-    from scipy import ndimage
-
-    from voxpose.voxels.carve import _dilate, _erode
-
-    rng = np.random.default_rng(sum(shape))
-    square = np.ones((1, 3, 3), dtype=bool)
-    for density in (0.0, 0.1, 0.5, 0.9, 1.0):
-        sil = rng.random(shape) < density
-        np.testing.assert_array_equal(_dilate(sil), ndimage.binary_dilation(sil, square))
-        np.testing.assert_array_equal(_erode(sil), ndimage.binary_erosion(sil, square, border_value=0))

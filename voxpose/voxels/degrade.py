@@ -28,12 +28,12 @@ level 0: the clean silhouettes):
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
 
 from voxpose.errors import VoxposeError
 from voxpose.motion.rotations import axis_angle_to_matrix
 from voxpose.voxels.body import Ellipsoids, body_ellipsoids
 from voxpose.voxels.cameras import Camera, Rig
+from voxpose.voxels.morphology import dilate, erode
 from voxpose.voxels.render import render_silhouettes
 from voxpose.voxels.voxelize import subject_shifts, voxelize_silhouettes
 
@@ -57,7 +57,7 @@ def disc(radius: int) -> np.ndarray:
 def boundary_band(mask: np.ndarray, band_px: int) -> np.ndarray:
     """Pixels of a (H, W) mask within ``band_px`` of its boundary: dilation minus erosion by a disc."""
     se = disc(band_px)
-    return ndimage.binary_dilation(mask, se) & ~ndimage.binary_erosion(mask, se, border_value=0)
+    return dilate(mask, se) & ~erode(mask, se)
 
 
 def flip_boundary(sil: np.ndarray, probability: float, band_px: int, rng) -> np.ndarray:
@@ -80,8 +80,7 @@ def morph(sil: np.ndarray, pixels: int) -> np.ndarray:
     if pixels == 0:
         return sil.copy()
     se = disc(abs(pixels))
-    op = ndimage.binary_dilation if pixels > 0 else ndimage.binary_erosion
-    return np.stack([op(mask, se) for mask in sil])
+    return (dilate if pixels > 0 else erode)(sil, se)
 
 
 def drop_limb(sil: np.ndarray, ellipsoids: Ellipsoids, rig: Rig, n_segments: int, rng) -> np.ndarray:
