@@ -48,9 +48,10 @@ from voxpose.voxels import carve_kernels
 from voxpose.voxels.cameras import Rig
 from voxpose.voxels.capture_volume import polytope_box
 from voxpose.voxels.lens import pinhole_twin
-from voxpose.voxels.morphology import dilate_square, erode_square
+from voxpose.voxels.morphology import dilate, erode
 
 _MAX_SUBSETS = 1000
+_SQUARE = np.ones((3, 3), dtype=bool)  # a window's one-pixel margin (dilated and eroded twins)
 _COARSE_CELLS = 4  # the coarsest octree level has about this many cells along the box's longest side
 _capture_cache: dict = {}
 
@@ -246,8 +247,8 @@ class Carver:
         if self._twin is None:
             tables = full_tables = _summed_areas(sil)
         else:  # conservative twins: a cell's pixels there bound its pixels in the real images (module docstring)
-            tables = _summed_areas(self._twin.to_twin(dilate_square(sil)))
-            full_tables = _summed_areas(self._twin.to_twin(erode_square(sil)))
+            tables = _summed_areas(self._twin.to_twin(dilate(sil, _SQUARE)))
+            full_tables = _summed_areas(self._twin.to_twin(erode(sil, _SQUARE)))
             if full_tables is None:
                 full_tables = _NO_PIXELS(len(sil))
         if len(self._coarse) == 0 or tables is None:

@@ -3,9 +3,11 @@
 The carver widens and narrows every view by the 3 x 3 square (its window bounds, ``voxels.carve``) and the
 degradations study flips a boundary band and grows or shrinks silhouettes by a disc (``voxels.degrade``). These
 are ``scipy.ndimage.binary_dilation`` and ``binary_erosion`` with pixels outside the image counting as background
-(``border_value=0``), written as ORs and ANDs of shifted copies: the same masks (the tests compare them), without
-importing scipy.ndimage, which cost 0.2-0.3 s of start-up in every job that carved or rendered a degraded view,
-and faster on the small windows the degradations use. Structuring elements are symmetric, so the reflection that
+(``border_value=0``), written as ORs and ANDs of shifted copies, one per pixel of the element: the same masks
+(the tests compare them), without importing scipy.ndimage, which cost 0.2-0.3 s of start-up in every job that
+carved or rendered a degraded view. Also faster (best of 30 runs, one core): six 480 x 480 views by the 3 x 3
+square, dilation 1.00 ms and erosion 1.02 ms against scipy's 11.9 and 7.0; a 290 x 130 window by the disc of
+radius 2, 0.10 and 0.11 ms against 0.18 and 0.51. Structuring elements are symmetric, so the reflection that
 tells dilation from correlation does not arise.
 """
 
@@ -19,14 +21,14 @@ def _offsets(element: np.ndarray) -> list[tuple[int, int]]:
     return [(int(dy), int(dx)) for dy, dx in np.argwhere(element) - centre]
 
 
-def _span(shift: int, size: int) -> tuple[slice, slice]:
-    """(destination, source) slices along one axis so that ``dst[i] = src[i + shift]`` where both exist
-    (none when the shift reaches past the image)."""
+def _span(shift: int, size: int) -> tuple[slice, slice, slice]:
+    """(destination, source, rest) slices along one axis: ``dst[i] = src[i + shift]`` where both exist, and the
+    destination's indices with no source (all of them when the shift reaches past the image)."""
     if abs(shift) >= size:
-        return slice(0, 0), slice(0, 0)
+        return slice(0, 0), slice(0, 0), slice(0, size)
     if shift >= 0:
-        return slice(0, size - shift), slice(shift, size)
-    return slice(-shift, size), slice(0, size + shift)
+        return slice(0, size - shift), slice(shift, size), slice(size - shift, size)
+    return slice(-shift, size), slice(0, size + shift), slice(0, -shift)
 
 
 def dilate(masks: np.ndarray, element: np.ndarray) -> np.ndarray:
@@ -35,7 +37,7 @@ def dilate(masks: np.ndarray, element: np.ndarray) -> np.ndarray:
     out = np.zeros_like(masks)
     height, width = masks.shape[-2:]
     for dy, dx in _offsets(element):
-        (rows, rows_src), (cols, cols_src) = _span(dy, height), _span(dx, width)
+        (rows, rows_src, _), (cols, cols_src, _) = _span(dy, height), _span(dx, width)
         out[..., rows, cols] |= masks[..., rows_src, cols_src]
     return out
 
@@ -47,34 +49,8 @@ def erode(masks: np.ndarray, element: np.ndarray) -> np.ndarray:
     out = np.ones_like(masks)
     height, width = masks.shape[-2:]
     for dy, dx in _offsets(element):
-        (rows, rows_src), (cols, cols_src) = _span(dy, height), _span(dx, width)
-        inside = np.zeros_like(masks)
-        inside[..., rows, cols] = masks[..., rows_src, cols_src]
-        out &= inside
-    return out
-
-
-def dilate_square(masks: np.ndarray) -> np.ndarray:
-    """``dilate`` by the 3 x 3 square, in two passes (rows, then columns: the square is separable)."""
-    masks = np.asarray(masks, dtype=bool)
-    rows = masks.copy()
-    rows[..., 1:, :] |= masks[..., :-1, :]
-    rows[..., :-1, :] |= masks[..., 1:, :]
-    out = rows.copy()
-    out[..., 1:] |= rows[..., :-1]
-    out[..., :-1] |= rows[..., 1:]
-    return out
-
-
-def erode_square(masks: np.ndarray) -> np.ndarray:
-    """``erode`` by the 3 x 3 square, in two passes like ``dilate_square``."""
-    masks = np.asarray(masks, dtype=bool)
-    rows = masks.copy()
-    rows[..., 1:, :] &= masks[..., :-1, :]
-    rows[..., :-1, :] &= masks[..., 1:, :]
-    rows[..., [0, -1], :] = False
-    out = rows.copy()
-    out[..., 1:] &= rows[..., :-1]
-    out[..., :-1] &= rows[..., 1:]
-    out[..., [0, -1]] = False
+        (rows, rows_src, rows_out), (cols, cols_src, cols_out) = _span(dy, height), _span(dx, width)
+        out[..., rows, cols] &= masks[..., rows_src, cols_src]
+        out[..., rows_out, :] = False  # the element reaches past the image there
+        out[..., cols_out] = False
     return out
