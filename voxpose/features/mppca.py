@@ -164,8 +164,8 @@ class _Screen(NamedTuple):
     """The compiled scoring path's constants of one projection (:mod:`voxpose.features.mppca_kernels`).
 
     stack32 the projection's stack in float32, its columns in ``mppca_kernels.screen_order``; stack_rows
-    (K, d + 1, q + 1) each component's stack columns side by side (mean first); col_norm (K (q + 1),) the column
-    Euclidean norms of those columns (of the float64 stack); gamma the float32 dot product's error factor.
+    (K, d + 1, q + 1) each component's stack columns side by side (mean first); col_norm (K (q + 1),) the
+    Euclidean norms of stack32's columns, taken in float64; gamma the float32 dot product's error factor.
     """
 
     stack32: np.ndarray

@@ -5,7 +5,7 @@ sees: six linear programs (min and max of x, y and z) over the frusta's half-spa
 dozen constraints the optimum of each is a vertex of the polytope, so the box is that of its vertices, found by
 solving every 3 x 3 system of three constraint planes and keeping the solutions that satisfy all constraints.
 This replaces ``scipy.optimize.linprog`` (HiGHS), whose import alone took 0.2-0.4 s of every voxelize job's CPU,
-for the same box (to rounding: both solve for the same vertices; the tests compare them to 1e-9 m).
+for the same box (both find the same vertices; the tests compare them to 1e-7 m, HiGHS's own tolerance).
 
 Feasibility allows a relative slack of ``_SLACK`` (a vertex computed in float64 lies on its planes only to
 rounding). A region that is not bounded (its recession cone ``{d : A d <= 0}`` holds a direction other than 0,
