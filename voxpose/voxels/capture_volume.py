@@ -20,11 +20,9 @@ _SLACK = 1e-9  # relative feasibility allowance of a computed vertex
 _SINGULAR = 1e-12  # |det| of three unit normals below this: (nearly) parallel planes, no vertex
 
 
-def _vertices(normals: np.ndarray, offsets: np.ndarray) -> np.ndarray:
-    """(V, 3) vertices of ``{x : normals @ x <= offsets}``: the points where three of the planes meet and every
-    constraint holds (to ``_SLACK``); duplicates where more than three planes meet."""
-    scale = np.linalg.norm(normals, axis=1)
-    unit, level = normals / scale[:, None], offsets / scale
+def _vertices(unit: np.ndarray, level: np.ndarray) -> np.ndarray:
+    """(V, 3) vertices of ``{x : unit @ x <= level}`` (unit normals): the points where three of the planes meet
+    and every constraint holds (to ``_SLACK``); duplicates where more than three planes meet."""
     triples = np.array(list(itertools.combinations(range(len(unit)), 3)), dtype=np.int64).reshape(-1, 3)
     systems = unit[triples]
     regular = np.abs(np.linalg.det(systems)) > _SINGULAR
@@ -34,12 +32,11 @@ def _vertices(normals: np.ndarray, offsets: np.ndarray) -> np.ndarray:
     return points[(excess <= allowed).all(axis=1)]
 
 
-def _bounded(normals: np.ndarray) -> bool:
-    """Whether ``{x : normals @ x <= b}`` is bounded (whatever ``b``): its recession cone ``{d : normals @ d <= 0}``
+def _bounded(unit: np.ndarray) -> bool:
+    """Whether ``{x : unit @ x <= b}`` is bounded (whatever ``b``): its recession cone ``{d : unit @ d <= 0}``
     is the origin alone. With normals of rank 3 the cone is pointed, and a pointed cone in three dimensions
     other than the origin has an extreme ray where two independent constraint planes meet, along the cross
     product of their normals (one sign or the other); so it is enough to test those."""
-    unit = normals / np.linalg.norm(normals, axis=1)[:, None]
     if np.linalg.matrix_rank(unit) < 3:
         return False
     pairs = np.array(list(itertools.combinations(range(len(unit)), 2)), dtype=np.int64)
@@ -54,10 +51,11 @@ def polytope_box(normals: np.ndarray, offsets: np.ndarray) -> np.ndarray | None:
     """(2, 3) min and max corners of ``{x : normals @ x <= offsets}`` (normals (m, 3), offsets (m,)), or None
     when that region is empty or unbounded."""
     normals = np.asarray(normals, dtype=float)
-    offsets = np.asarray(offsets, dtype=float)
-    if len(normals) < 4 or not _bounded(normals):
+    scale = np.linalg.norm(normals, axis=1)
+    unit, level = normals / scale[:, None], np.asarray(offsets, dtype=float) / scale
+    if len(unit) < 4 or not _bounded(unit):
         return None
-    points = _vertices(normals, offsets)
+    points = _vertices(unit, level)
     if not len(points):
         return None
     return np.stack([points.min(axis=0), points.max(axis=0)])
