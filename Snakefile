@@ -28,6 +28,7 @@ include: "workflow/rules/figures.smk"
 include: "workflow/rules/models.smk"
 include: "workflow/rules/claims_common.smk"
 include: "workflow/rules/claims.smk"
+include: "workflow/rules/job_server.smk"
 
 
 report: "workflow/report/workflow.rst"

@@ -26,6 +26,17 @@ from voxpose.provenance import NOT_GIT, config_hash
 pytestmark = pytest.mark.workflow  # slow: deselect with -m "not workflow"
 
 
+def test_the_quick_run_went_through_the_job_server(quick_run):
+    """Its jobs ran in forks of the job server (voxpose.cli.job_server), none refused, and the tables they made
+    equal the reference run's (``test_quick_tables_equal_the_reference_run``). A job that starts before the
+    server listens runs alone: a few at most."""
+    log = (quick_run / "results/logs/job_server.log").read_text()
+    jobs = [p for p in (quick_run / "results/logs").rglob("*.log") if p.name != "job_server.log"]
+    served = log.count(": exit 0 after ")
+    assert "refused" not in log
+    assert len(jobs) - 10 <= served <= len(jobs)
+
+
 def test_quick_run_writes_every_artifact(quick_run):
     for name in (
         "tables/table1.csv",

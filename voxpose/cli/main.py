@@ -61,7 +61,8 @@ _MODULES = ("generate", "derive", "motion", "rig", "voxelize", "carve", "describ
             "regress", "evaluate", "experiment_table", "generalisation_table", "table1", "table2", "paper_claims",
             "report_summary", "readme_tables", "figure4", "joint_errors", "error_over_time", "gallery",
             "voxelize_degraded", "silhouette_contexts", "fit_silhouette_features", "silhouette_features",
-            "export_model", "predict", "render", "silhouettes", "data_fetch", "check_config", "verify")  # fmt: skip
+            "export_model", "predict", "render", "silhouettes", "data_fetch", "check_config", "verify",
+            "serve")  # fmt: skip
 
 SUBCOMMANDS = {name.replace("_", "-"): Subcommand(f"voxpose.cli.{name}") for name in _MODULES} | {
     "camera-figure": Subcommand("voxpose.cli.claims_figure", "run_cameras",
@@ -71,18 +72,16 @@ SUBCOMMANDS = {name.replace("_", "-"): Subcommand(f"voxpose.cli.{name}") for nam
 }  # fmt: skip
 
 
-def _limit_threads(argv) -> None:
-    """Set the thread variables from ``--threads`` in ``argv`` (default 1) unless already set; a malformed value
-    is left for the parser to refuse."""
+def thread_defaults(argv) -> dict:
+    """The thread variables ``main`` sets where they are unset: each to ``--threads`` in ``argv`` (default 1); none
+    for a malformed value, which is left for the parser to refuse."""
     threads = "1"
     for i, word in enumerate(argv):
         if word == "--threads" and i + 1 < len(argv):
             threads = argv[i + 1]
         elif word.startswith("--threads="):
             threads = word.split("=", 1)[1]
-    if threads.isdigit() and int(threads) >= 1:
-        for var in THREAD_VARIABLES:
-            os.environ.setdefault(var, threads)
+    return dict.fromkeys(THREAD_VARIABLES, threads) if threads.isdigit() and int(threads) >= 1 else {}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -112,7 +111,8 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
 
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
-    _limit_threads(argv)  # before any subcommand's module imports numpy
+    for name, value in thread_defaults(argv).items():  # before any subcommand's module imports numpy
+        os.environ.setdefault(name, value)
     parser = build_parser(argv[0] if argv and argv[0] in SUBCOMMANDS else None)
     args = parser.parse_args(argv)
     try:

@@ -22,14 +22,26 @@ the interpreter's defaults: tests and other programs call it inside their own pr
 import gc
 import sys
 
-from voxpose.cli.main import main
+from voxpose.cli import job_server
 
 YOUNG_THRESHOLD = 10_000  # net container allocations between young collections (CPython's default: 700)
 
 
 def run() -> None:
-    """Run ``voxpose`` with ``sys.argv``; exit with its status, skipping the collector's pass over what is left."""
-    gc.set_threshold(YOUNG_THRESHOLD, *gc.get_threshold()[1:])
-    status = main()
-    gc.freeze()
+    """Run ``voxpose`` with ``sys.argv``: in a fork of the job server when one is named and accepts it
+    (``voxpose.cli.job_server``), else here, skipping the collector's pass over what is left at exit. Exit with the
+    command's status."""
+    argv = sys.argv[1:]
+    status = job_server.run_remote(argv)
+    if status is None:
+        status = run_here(argv)
+        gc.freeze()
     sys.exit(status)
+
+
+def run_here(argv: list) -> int:
+    """Run ``voxpose argv`` in this process, the collector set for a short job; its exit status."""
+    gc.set_threshold(YOUNG_THRESHOLD, *gc.get_threshold()[1:])
+    from voxpose.cli.main import main
+
+    return main(argv)
