@@ -5,6 +5,7 @@ reference tables in ``tests/workflow``."""
 
 import os
 import signal
+import socket
 import subprocess
 import sys
 import time
@@ -119,6 +120,18 @@ def test_stopping_the_server_stops_its_forks_and_removes_its_socket(stand_in):
     assert client.wait(timeout=30) == 1  # the command says the server stopped before it ended
     assert b"stopped before the command ended" in client.stderr.read()
     assert not sock.exists()
+
+
+@pytest.mark.parametrize("garbage", [b"", b"\x00\x00\x00\x05{}{}{", b"\x00\x00\x00\x02{}"])
+def test_a_broken_request_is_refused_and_the_server_goes_on(stand_in, garbage):
+    sock, _, log = stand_in
+    with socket.socket(socket.AF_UNIX) as conn:  # no streams passed, and no (or a broken, or an empty) request
+        conn.connect(str(sock))
+        conn.sendall(garbage)
+        conn.shutdown(socket.SHUT_WR)
+        assert conn.recv(100) == b""  # closed without a pid
+    _wait_for(lambda: "refused" in log.read_text())
+    assert _client(sock, "exit", "4").wait(timeout=30) == 4
 
 
 def test_the_server_leaves_when_the_process_that_started_it_is_gone(tmp_path):

@@ -43,6 +43,7 @@ STARTUP_VARIABLES = ("PYTHON", "NUMBA_", "OMP_", "OPENBLAS_", "MKL_", "GOTO_", "
 FORWARDED = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 _HEADER = struct.Struct("!I")  # each message: its length, then that many bytes of JSON
 _STREAMS = (0, 1, 2)
+_REQUEST = {"argv", "cwd", "env", "executable", "path"}
 
 log = logging.getLogger("voxpose")
 
@@ -150,10 +151,15 @@ def serve(path: str, runner, parent: int | None = None) -> None:
     selector.register(listener, selectors.EVENT_READ)
     jobs = {}  # pid -> _Job
     previous = signal.signal(signal.SIGTERM, _raise_stop)
+    # SIGTERM is taken only while waiting, so that it never falls between a fork and its bookkeeping
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGTERM})
     log.info("serving on %s (pid %d)", path, os.getpid())
     try:
         while os.getppid() == parent:
-            for key, _ in selector.select(timeout=1.0):
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGTERM})
+            events = selector.select(timeout=1.0)
+            signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGTERM})
+            for key, _ in events:
                 if key.fileobj is listener:
                     _accept(listener, selector, jobs, runner, sources, startup)
                 else:
@@ -161,6 +167,7 @@ def serve(path: str, runner, parent: int | None = None) -> None:
     except _Stop:
         log.info("stopping: SIGTERM")
     finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
         signal.signal(signal.SIGTERM, previous)
         for job in list(jobs.values()):
             _signal(job.pid, signal.SIGTERM)
@@ -237,22 +244,26 @@ def _accept(listener, selector, jobs, runner, sources, startup) -> None:
         if pid == 0:
             _close_inherited(listener, selector, jobs, conn)
             _child(request, fds, runner)  # never returns
-        conn.sendall(_frame({"pid": pid}))
-        _Job(pid, conn, request["argv"], selector, jobs)
     except (OSError, ValueError) as err:
-        log.info("refused: a broken request (%s)", err)
+        log.info("refused: %s", err)  # a broken request, or no fork: the command runs alone
         conn.close()
+        return
     finally:
         for fd in fds:
             os.close(fd)
+    job = _Job(pid, conn, request["argv"], selector, jobs)
+    try:
+        conn.sendall(_frame({"pid": pid}))
+    except OSError:
+        job.gone(selector, jobs)
 
 
 def _refusal(request, fds, sources, startup) -> str | None:
     """Why the fork would not be the process the command would have started (None: it would be)."""
-    if not isinstance(request, dict) or len(fds) != len(_STREAMS):
+    if not isinstance(request, dict) or not _REQUEST <= request.keys() or len(fds) != len(_STREAMS):
         return "not a request with its three standard streams"
-    if request.get("executable") != sys.executable or request.get("path") != sys.path:
-        return f"another interpreter or sys.path ({request.get('executable')})"
+    if request["executable"] != sys.executable or request["path"] != sys.path:
+        return f"another interpreter or sys.path ({request['executable']})"
     from voxpose.cli.main import thread_defaults
 
     theirs = _startup(thread_defaults(request["argv"]) | request["env"])  # as the command's ``main`` would set them
@@ -306,6 +317,7 @@ def _child(request: dict, fds: list, runner) -> None:
     """In the fork: become the command's process, run it, exit with its status (never returns)."""
     status = 1
     try:
+        signal.pthread_sigmask(signal.SIG_SETMASK, set())  # the server blocks SIGTERM outside its waits
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
         signal.signal(signal.SIGHUP, signal.SIG_DFL)
         signal.signal(signal.SIGINT, signal.default_int_handler)
