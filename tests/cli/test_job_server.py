@@ -235,6 +235,21 @@ def test_an_edited_source_file_is_refused(tmp_path):
         proc.wait(timeout=30)
 
 
+def test_preload_imports_every_module_and_numba_but_runs_no_command():
+    """``voxpose.__main__`` runs the command in ``sys.argv`` when imported: preload leaves it out."""
+    code = (
+        "import pkgutil, sys\n"
+        "sys.argv = ['voxpose', 'check-config', '--base', 'absent.yaml']\n"
+        "import voxpose\n"
+        "from voxpose.cli import job_server\n"
+        "job_server.preload()\n"
+        "names = [i.name for i in pkgutil.walk_packages(voxpose.__path__, 'voxpose.')]\n"
+        "print(sorted(set(names) - set(sys.modules)), 'numba' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, env=_env(), capture_output=True, text=True)
+    assert (out.returncode, out.stdout) == (0, "['voxpose.__main__'] True\n"), out.stderr
+
+
 def test_start_names_the_server_for_jobs_and_stop_removes_it(tmp_path, monkeypatch):
     monkeypatch.setenv("PATH", f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
     monkeypatch.delenv(job_server.ENV, raising=False)

@@ -355,7 +355,8 @@ def preload() -> None:
     import voxpose
 
     for info in pkgutil.walk_packages(voxpose.__path__, "voxpose."):
-        importlib.import_module(info.name)
+        if info.name != "voxpose.__main__":  # `python -m voxpose` itself: importing it runs a command
+            importlib.import_module(info.name)
     from voxpose import kernels
 
     if kernels.use_numba():
