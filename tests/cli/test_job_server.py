@@ -74,9 +74,17 @@ def stand_in(tmp_path):
     proc.wait(timeout=30)
 
 
-def _client(sock, *argv, **popen):
+def _client(sock, *argv, sigint=signal.SIG_DFL, **popen):
+    """The command's side with ``argv``, SIGINT handled as ``sigint`` (a job run in the background ignores it)."""
     client = sock.parent / "client.py"
-    return subprocess.Popen([sys.executable, str(client), *argv], env=_env(VOXPOSE_SERVER=str(sock)), **popen)
+    return subprocess.Popen([sys.executable, str(client), *argv], env=_env(VOXPOSE_SERVER=str(sock)),
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, sigint), **popen)  # fmt: skip
+
+
+def _ignores(pid: int, sig) -> bool:
+    """Whether process ``pid`` ignores ``sig`` (its SigIgn mask in /proc)."""
+    mask = next(line for line in Path(f"/proc/{pid}/status").read_text().splitlines() if line.startswith("SigIgn"))
+    return bool(int(mask.split()[1], 16) >> (sig - 1) & 1)
 
 
 def test_the_fork_writes_to_the_commands_streams_and_its_status_is_the_commands(stand_in, tmp_path):
@@ -97,6 +105,18 @@ def test_a_signal_to_the_command_reaches_its_fork(stand_in, sig):
     # SIGTERM kills the fork (128 + 15); SIGINT raises KeyboardInterrupt in it, a traceback and status 1
     assert client.wait(timeout=30) == (143 if sig == signal.SIGTERM else 1)
     _wait_for(lambda: not Path(f"/proc/{fork}").exists())
+
+
+@pytest.mark.parametrize("sigint", [signal.SIG_DFL, signal.SIG_IGN])
+def test_the_fork_ignores_sigint_as_the_command_does(stand_in, sigint):
+    sock, server, _ = stand_in
+    client = _client(sock, "sleep", "60", sigint=sigint)
+    _wait_for(lambda: _forks(server.pid))
+    fork = _forks(server.pid)[0]
+    assert _ignores(fork, signal.SIGINT) == (sigint == signal.SIG_IGN)
+    assert not _ignores(fork, signal.SIGTERM)
+    client.terminate()
+    assert client.wait(timeout=30) == 143
 
 
 def test_a_command_killed_outright_takes_its_fork_with_it(stand_in):

@@ -20,10 +20,10 @@ when the server refuses because its fork would not be the process the command wo
 interpreter or ``sys.path``, a variable read at start-up that differs (``STARTUP_VARIABLES``: numba's, the
 thread counts Snakemake sets per job, Python's), or a voxpose source file changed since the server imported it.
 
-Stopping: the command forwards SIGINT, SIGTERM and SIGHUP to its fork, and the server sends SIGTERM to a fork
-whose command went away (killed outright), so stopping a job stops its work as before. The server exits on
-SIGTERM (terminating the forks still running) and when the process that started it is gone. Each job is a
-line in the server's log: its pid, command, exit status and seconds.
+Stopping: the command forwards SIGINT, SIGTERM and SIGHUP to its fork (those it ignores, the fork ignores), and
+the server sends SIGTERM to a fork whose command went away (killed outright), so stopping a job stops its work as
+before. The server exits on SIGTERM (terminating the forks still running) and when the process that started it
+is gone. Each job is a line in the server's log: its pid, command, exit status and seconds.
 
 Linux only (``os.pidfd_open``); elsewhere ``serve`` refuses and commands run in their own processes.
 """
@@ -43,7 +43,7 @@ STARTUP_VARIABLES = ("PYTHON", "NUMBA_", "OMP_", "OPENBLAS_", "MKL_", "GOTO_", "
 FORWARDED = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 _HEADER = struct.Struct("!I")  # each message: its length, then that many bytes of JSON
 _STREAMS = (0, 1, 2)
-_REQUEST = {"argv", "cwd", "env", "executable", "path"}
+_REQUEST = {"argv", "cwd", "env", "executable", "path", "ignored"}
 
 log = logging.getLogger("voxpose")
 
@@ -63,6 +63,7 @@ def run_remote(argv: list) -> int | None:
         "env": dict(os.environ),
         "executable": sys.executable,
         "path": sys.path,
+        "ignored": [int(sig) for sig in FORWARDED if signal.getsignal(sig) == signal.SIG_IGN],
     }
     # the forwarded signals wait until the fork's pid is known and they can be passed on (a SIGINT in between
     # would kill this process and leave its fork running until the server noticed)
@@ -78,7 +79,7 @@ def run_remote(argv: list) -> int | None:
             if not reply or "pid" not in reply:
                 return None  # refused: the reason is in the server's log
             pid = reply["pid"]
-            for sig in FORWARDED:
+            for sig in set(FORWARDED) - set(request["ignored"]):  # what this process ignores, its fork ignores
                 signal.signal(sig, lambda number, _frame, pid=pid: _signal(pid, number))
         finally:
             signal.pthread_sigmask(signal.SIG_SETMASK, mask)
@@ -318,9 +319,9 @@ def _child(request: dict, fds: list, runner) -> None:
     status = 1
     try:
         signal.pthread_sigmask(signal.SIG_SETMASK, set())  # the server blocks SIGTERM outside its waits
-        signal.signal(signal.SIGTERM, signal.SIG_DFL)
-        signal.signal(signal.SIGHUP, signal.SIG_DFL)
-        signal.signal(signal.SIGINT, signal.default_int_handler)
+        for sig in FORWARDED:  # as the command's own process would have them (a background job ignores SIGINT)
+            default = signal.default_int_handler if sig == signal.SIGINT else signal.SIG_DFL
+            signal.signal(sig, signal.SIG_IGN if sig in request["ignored"] else default)
         for target, fd in zip(_STREAMS, fds, strict=True):
             os.dup2(fd, target)
             os.close(fd)
