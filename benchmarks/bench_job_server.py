@@ -10,7 +10,6 @@ that rule would save at that rate. The server's start-up (its preload, once per 
 """
 
 import argparse
-import base64
 import json
 import os
 import shlex
@@ -29,15 +28,14 @@ DEFAULT_RULES = ("regress", "fit_features", "describe", "features", "voxelize", 
 
 def median_jobs(run: Path, rules) -> dict:
     """rule -> (number of jobs, the shell command of its job of median wall time) from the run's metadata."""
-    jobs = {}
+    jobs = {}  # rule -> {shell command: wall seconds} (a job of several outputs has one record per output)
     for record in (run / ".snakemake" / "metadata").iterdir():
         meta = json.loads(record.read_text())
         if meta.get("rule") in rules and meta.get("shellcmd"):
-            output = base64.b64decode(record.name).decode()
-            jobs.setdefault(meta["rule"], {})[meta["shellcmd"]] = (meta["endtime"] - meta["starttime"], output)
+            jobs.setdefault(meta["rule"], {})[meta["shellcmd"]] = meta["endtime"] - meta["starttime"]
     picked = {}
     for rule, commands in jobs.items():
-        ordered = sorted(commands, key=lambda c: commands[c][0])
+        ordered = sorted(commands, key=commands.get)
         picked[rule] = (len(commands), ordered[len(ordered) // 2])
     return picked
 

@@ -212,8 +212,10 @@ def test_a_served_command_writes_what_it_writes_alone(server):
     ],
 )
 def test_a_served_mistake_is_the_same_one_line_error_and_status(server, argv):
-    sock, _ = server
+    sock, log = server
     served, alone = _voxpose(sock.parent, *argv, server=sock), _voxpose(sock.parent, *argv)
+    served_line = ": voxpose " + " ".join(argv)  # the server's line for this job: it was served, not run alone
+    assert any(" exit 2 after " in line and line.endswith(served_line) for line in log.read_text().splitlines())
     assert served.returncode == alone.returncode == 2
     assert served.stderr.splitlines()[-1] == alone.stderr.splitlines()[-1]
     assert served.stderr.splitlines()[-1].startswith("voxpose: error: ")

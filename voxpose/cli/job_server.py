@@ -403,9 +403,9 @@ def stop(handle) -> None:
     import shutil
     import subprocess
 
-    if os.environ.get(ENV, "").startswith(handle[1]):
-        del os.environ[ENV]
     process, folder = handle
+    if os.environ.get(ENV, "").startswith(folder):
+        del os.environ[ENV]
     process.terminate()
     try:
         process.wait(timeout=30)
