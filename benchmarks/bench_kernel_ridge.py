@@ -13,6 +13,9 @@ the ridge is ranked on, ``KernelRidge(max_rows=...)``; 0: every row, as before 9
 Measured (6b38077's code, one BLAS thread, machine idle): N = 4000: 3.7 s, 385 MB; N = 9759: 33.2 s, 1891 MB.
 The code before 6b38077 (identity matrices added, LAPACK left to copy), timed on the same data by an ad-hoc script
 with a default run on the other core: N = 4000 4.6 s and 592 MB against 3.1 s and 384 MB after.
+Session 23 (``--rows 9759 --max-rows 2000``, one BLAS thread, idle): 93c8d86 11.7 s, 1596 MB; with the kernel
+matrix's distances formed in place and the Cholesky copy a straight one (``squared_distances``,
+``cholesky_solve``) 7.6 s, 1596 MB, the same numbers bit for bit.
 """
 
 import argparse

@@ -73,3 +73,15 @@ def test_squared_distances_match_brute_force():
     # itself falls below zero (-0.00098 here without the clipping)
     x = np.random.default_rng(0).normal(size=(50, 3)) * 1e4 + 1e6
     assert squared_distances(x, x).min() == 0.0
+
+
+def test_squared_distances_in_place_give_the_one_line_formula_bit_for_bit():
+    # 300 x 2000 entries: the norms are added in three blocks of rows; the formula is the one the in-place
+    # version replaced, so every stage that calls it keeps its numbers
+    rng = np.random.default_rng(3)
+    a, b = rng.normal(size=(300, 20)) * 3.0 + 1.0, rng.normal(size=(2000, 20))
+    for x, c in ((a, b), (b, a), (a, a)):
+        one_line = np.sum(x * x, axis=1)[:, None] + np.sum(c * c, axis=1)[None, :] - 2.0 * (x @ c.T)
+        assert np.array_equal(squared_distances(x, c), np.maximum(one_line, 0.0))
+    d2 = squared_distances(b, b)
+    assert np.array_equal(d2, d2.T)  # a kernel matrix of one set of rows stays exactly symmetric

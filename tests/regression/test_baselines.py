@@ -145,6 +145,19 @@ def test_kernel_ridge_constructor_is_keyword_only_after_the_kernel_width():
         KernelRidge(0.5, 0.1)
 
 
+def test_cholesky_solve_gives_lapack_the_lower_factorisation_of_a_bit_for_bit_in_any_memory_order():
+    import scipy.linalg
+
+    rng = np.random.default_rng(4)
+    f = rng.standard_normal((40, 50))
+    a = f @ f.T  # symmetric bit for bit (numpy's symmetric rank-k product)
+    b = rng.standard_normal((40, 3))
+    shifted = np.asfortranarray(a + 0.25 * np.eye(40))
+    reference = scipy.linalg.cho_solve(scipy.linalg.cho_factor(shifted, lower=True), b)
+    for layout in (a, np.asfortranarray(a), a[::-1, ::-1][::-1, ::-1], a.tolist()):
+        assert np.array_equal(cholesky_solve(layout, b, ridge=0.25), reference)
+
+
 def test_cholesky_solve_with_a_ridge_solves_the_shifted_system_and_leaves_its_input_alone():
     rng = np.random.default_rng(2)
     f = rng.standard_normal((30, 6))
