@@ -56,6 +56,29 @@ def test_incremental_factors_match_brute_force():
     check()
 
 
+def test_a_refresh_keeps_each_active_function_with_its_column_whether_or_not_slots_died():
+    """Refresh moves the live slots to the front when some died (a deletion) and uses them in place otherwise:
+    either way slot i holds the design column and Gram column of the function in slot i, and the log ML is
+    the brute-force one."""
+    x, y, _ = mvrvm_toy(n=30, seed=3)
+    phi = design_matrix(x, x, 1.2, bias=True)
+    cap = np.full(y.shape[1], 1e12)
+    post = Posterior(DesignStatistics(x, x, 1.2, True, y), y, np.full(y.shape[1], 60.0), alignment_max=0.999)
+    post.refresh(update_beta=False, beta_cap=cap)
+    for j, alpha in ((3, 0.5), (17, 1.0), (8, 2.0), (25, 0.3)):
+        post.add(j, alpha)
+    for deleted in (True, False):
+        if deleted:
+            post.delete(17)  # slot 1 dies
+        lml, _ = post.refresh(update_beta=False, beta_cap=cap)
+        act = post.slot_basis[: post.n_slots]
+        assert post.n_slots == post.k == (3 if deleted else 4)
+        assert np.allclose(post.columns[:, : post.n_slots], phi[:, act], rtol=1e-12, atol=1e-15)
+        assert np.array_equal(post.cross[:, : post.n_slots], post.design.gram[:, act])
+        assert lml == pytest.approx(mvrvm_log_ml(phi[:, act], y, post.alpha[act], post.beta), rel=1e-11)
+        post.add(12, 0.7)
+
+
 def test_noise_update_keeps_the_best_of_old_mackay_and_em():
     x, y, _ = mvrvm_toy(n=60, seed=2)
     phi = design_matrix(x, x, 1.5, bias=True)
