@@ -158,6 +158,24 @@ def test_cholesky_solve_gives_lapack_the_lower_factorisation_of_a_bit_for_bit_in
         assert np.array_equal(cholesky_solve(layout, b, ridge=0.25), reference)
 
 
+@pytest.mark.parametrize("rank", [40, 6])
+def test_cholesky_solve_in_place_gives_the_copying_solve_bit_for_bit(rank):
+    # rank 6 of 40 is singular: the in-place attempt fails, the matrix is restored and the jittered copies
+    # then see the original; without the restore they would factor the failed attempt's leftovers
+    rng = np.random.default_rng(5)
+    f = rng.standard_normal((40, rank))
+    a = f @ f.T
+    b = rng.standard_normal((40, 2))
+    expected = cholesky_solve(a, b, ridge=0.0 if rank == 6 else 0.1)
+    consumed = a.copy()
+    got = cholesky_solve(consumed, b, ridge=0.0 if rank == 6 else 0.1, overwrite_a=True)
+    assert np.array_equal(got, expected)
+    if rank == 40:
+        assert not np.array_equal(consumed, a)  # factored in a itself, no copy
+    else:
+        assert np.array_equal(consumed, a)  # restored after the failed in-place attempt, copies after that
+
+
 def test_cholesky_solve_with_a_ridge_solves_the_shifted_system_and_leaves_its_input_alone():
     rng = np.random.default_rng(2)
     f = rng.standard_normal((30, 6))
