@@ -38,6 +38,10 @@ Width-selection candidates at 500 moves instead of 1000 (9c5a9c3; ``--select --r
 config/config.yaml with ``selection_max_iter`` 1000 and then 500, the two side by side on 2 cores): N = 2000: 74.3
 -> 36.7 CPU s, 1253 -> 1102 relevance vectors, held-out RMSE 28.11 -> 28.39; N = 9759: 72.6 -> 37.8 CPU s, peak
 736 -> 644 MB, 1448 -> 1306 relevance vectors; the same scale (0.6) chosen.
+Session 23 (cfef108, ``--select --rows 1000 2000 5000 10297``, config/config.yaml, the largest real training set:
+79 motions holding out CMU subject 5, 10,297 frames x 200 MPPCA features -> 12 outputs; one BLAS thread, idle):
+32.0, 35.1, 29.8, 29.6 CPU s; peak 207, 328, 371, 526 MB; 707, 1074, 1176, 1308 relevance vectors (70.7, 53.7,
+23.5, 12.7 %); none converged (1000 moves); held-out RMSE 34.22, 29.02, 26.03 (none left at 10297).
 The whole table at the current defaults (2026-11-28, d366896's config/config.yaml: selection 500 moves, final fit
 1000; the same set, ``--select --rows 1000 2000 5000 9759``, one BLAS thread, every other process stopped):
 N = 1000, 2000, 5000, 9759: 37.7, 51.8, 45.9, 48.6 CPU s; peak 252, 418, 486, 657 MB; 748, 1102, 1186, 1306
@@ -59,6 +63,7 @@ import multiprocessing
 import resource
 import time
 import warnings
+from queue import Empty
 
 import numpy as np
 import yaml
@@ -90,7 +95,7 @@ def fit_one(x, z, groups, x_val, z_val, fit_args, queue) -> None:
     before = resource.getrusage(resource.RUSAGE_SELF)
     if "cfg" in fit_args:
         model, table = fit_mvrvm(x, z, groups, fit_args["cfg"], fit_args["seed"])
-        label = f"x{table.loc[table['width'] == model.kernel_width_, 'scale'].item():g}"
+        label = f"x{next(row['scale'] for row in table if row['width'] == model.kernel_width_):g}"
     else:
         model = MVRVM(random_state=fit_args["seed"], **fit_args["params"]).fit(x, z)
         label = f"{model.kernel_width_:.4g}"
@@ -98,6 +103,17 @@ def fit_one(x, z, groups, x_val, z_val, fit_args, queue) -> None:
     cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
     rmse = float(np.sqrt(np.mean(np.sum((model.predict(x_val) - z_val) ** 2, axis=1)))) if len(x_val) else np.nan
     queue.put((label, cpu, after.ru_maxrss / 1024, len(model.relevance_), model.n_iter_, model.converged_, rmse))
+
+
+def _result(queue, child, n: int) -> tuple:
+    """The child's report; exits naming the size when the child ended without one (its traceback is above)."""
+    while True:
+        try:
+            return queue.get(timeout=1.0)
+        except Empty:
+            if not child.is_alive() and queue.empty():
+                message = f"bench_mvrvm_scaling: the fit of N = {n} ended without a result (exit {child.exitcode})"
+                raise SystemExit(message) from None
 
 
 def main() -> None:
@@ -155,7 +171,7 @@ def main() -> None:
                                                   fit_args, queue))  # fmt: skip
         start = time.perf_counter()
         child.start()
-        label, cpu, peak, n_rv, n_iter, conv, rmse = queue.get()
+        label, cpu, peak, n_rv, n_iter, conv, rmse = _result(queue, child, n)
         child.join()
         wall = time.perf_counter() - start
         print(f"{label:>7} {n:>6} {cpu:>8.1f} {peak:>8.0f} {n_rv:>6} {100 * n_rv / n:>6.1f} {n_iter:>6} "
