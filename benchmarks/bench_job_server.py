@@ -2,15 +2,15 @@
 
 Usage: ``python benchmarks/bench_job_server.py RUN_DIR [--repeats N] [--rules a,b]`` with the run's ``voxpose`` on
 PATH. For each rule (default: the rules with the most job-seconds), the job of median length in the run's metadata
-(``.snakemake/metadata``) is run again in RUN_DIR with its outputs and log redirected to a temporary folder: as its
-own process (``voxpose ...``, as without the server) and as a command served by a server started the way the
-workflow starts it, alternated ``--repeats`` times. Printed per rule: the jobs in the run, the median wall seconds
-alone and served (the command's wall time, which covers its fork's), their ratio, and the seconds the run's jobs of
-that rule would save at that rate. The server's start-up (its preload, once per run) is printed apart.
+(``.snakemake/metadata``, read by ``job_seconds.jobs``) is run again in RUN_DIR with its outputs and log
+redirected to a temporary folder: as its own process (``voxpose ...``, as without the server) and as a command
+served by a server started the way the workflow starts it, alternated ``--repeats`` times. Printed per rule: the
+jobs in the run, the median wall seconds alone and served (the command's wall time, which covers its fork's), their
+ratio, and the seconds the run's jobs of that rule would save at that rate. The server's start-up (its preload,
+once per run) is printed apart.
 """
 
 import argparse
-import json
 import os
 import shlex
 import statistics
@@ -18,6 +18,8 @@ import subprocess
 import tempfile
 import time
 from pathlib import Path
+
+from job_seconds import jobs
 
 from voxpose.cli import job_server
 
@@ -28,15 +30,14 @@ DEFAULT_RULES = ("regress", "fit_features", "describe", "features", "voxelize", 
 
 def median_jobs(run: Path, rules) -> dict:
     """rule -> (number of jobs, the shell command of its job of median wall time) from the run's metadata."""
-    jobs = {}  # rule -> {shell command: wall seconds} (a job of several outputs has one record per output)
-    for record in (run / ".snakemake" / "metadata").iterdir():
-        meta = json.loads(record.read_text())
-        if meta.get("rule") in rules and meta.get("shellcmd"):
-            jobs.setdefault(meta["rule"], {})[meta["shellcmd"]] = meta["endtime"] - meta["starttime"]
+    per_rule = {}
+    for job in jobs(run):
+        if job.rule in rules and job.command:
+            per_rule.setdefault(job.rule, []).append(job)
     picked = {}
-    for rule, commands in jobs.items():
-        ordered = sorted(commands, key=commands.get)
-        picked[rule] = (len(commands), ordered[len(ordered) // 2])
+    for rule, found in per_rule.items():
+        ordered = sorted(found, key=lambda job: job.end - job.start)
+        picked[rule] = (len(found), ordered[len(ordered) // 2].command)
     return picked
 
 

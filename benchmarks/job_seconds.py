@@ -17,11 +17,19 @@ import json
 from collections import defaultdict
 from datetime import datetime
 from pathlib import Path
+from typing import NamedTuple
 
 
-def jobs(run_dir: Path, since: float = 0.0) -> list[tuple[str, float, float]]:
-    """(rule, start, end) of every finished job recorded in ``run_dir``'s Snakemake metadata."""
-    seen = {}
+class Job(NamedTuple):
+    rule: str
+    start: float
+    end: float
+    command: str | None  # the shell command, as Snakemake recorded it
+
+
+def jobs(run_dir: Path, since: float = 0.0) -> list[Job]:
+    """Every finished job recorded in ``run_dir``'s Snakemake metadata."""
+    seen, commands = {}, {}
     for path in (run_dir / ".snakemake" / "metadata").iterdir():
         record = json.loads(path.read_text())
         start, end = record.get("starttime"), record.get("endtime")
@@ -29,7 +37,8 @@ def jobs(run_dir: Path, since: float = 0.0) -> list[tuple[str, float, float]]:
             continue
         key = (record["rule"], record.get("job_hash"), end)  # a job's outputs share its end, not its start
         seen[key] = min(start, seen.get(key, start))
-    return [(rule, start, end) for (rule, _, end), start in seen.items()]
+        commands[key] = record.get("shellcmd")
+    return [Job(rule, start, end, commands[rule, h, end]) for (rule, h, end), start in seen.items()]
 
 
 def main() -> None:
@@ -41,10 +50,10 @@ def main() -> None:
     if not found:
         raise SystemExit(f"job_seconds: no finished jobs recorded in {args.run_dir / '.snakemake/metadata'}")
     per_rule = defaultdict(list)
-    for rule, start, end in found:
-        per_rule[rule].append(end - start)
+    for job in found:
+        per_rule[job.rule].append(job.end - job.start)
     total = sum(sum(d) for d in per_rule.values())
-    span = max(e for _, _, e in found) - min(s for _, s, _ in found)
+    span = max(job.end for job in found) - min(job.start for job in found)
     print(f"{'rule':<30} {'jobs':>5} {'job-s':>8} {'share':>6} {'longest s':>10}")
     for rule, durations in sorted(per_rule.items(), key=lambda kv: -sum(kv[1])):
         print(f"{rule:<30} {len(durations):>5} {sum(durations):>8.1f} {sum(durations) / total:>6.1%} "
