@@ -15,11 +15,14 @@ onstart:
             _JOB_SERVER.append(handle)
 
 
-onsuccess:
+def _stop_job_server():
     while _JOB_SERVER:
         job_server.stop(_JOB_SERVER.pop())
+
+
+onsuccess:
+    _stop_job_server()
 
 
 onerror:
-    while _JOB_SERVER:
-        job_server.stop(_JOB_SERVER.pop())
+    _stop_job_server()
