@@ -369,13 +369,13 @@ def test_projection_is_cached_per_parameter_set():
     assert not np.array_equal(model.predict_proba(X), first)
 
 
-@pytest.mark.parametrize("n_latent", [0, 2])
-def test_compiled_posterior_equals_dense_covariances_and_the_numpy_path(monkeypatch, n_latent):
+@pytest.mark.parametrize(("n_latent", "dim"), [(0, 5), (2, 5), (9, 12)])  # q = 9: two blocks of accumulators
+def test_compiled_posterior_equals_dense_covariances_and_the_numpy_path(monkeypatch, n_latent, dim):
     """``compiled=True``: the same densities and responsibilities as the dense reference and the numpy path (to
     rounding: it divides by the row's sum of exp instead of subtracting log p, and evaluates only the components
     its float32 screen keeps; the others are below 1e-30 on the numpy path), across chunks, on rows far from
     every component (most terms underflow) and near them; ``VOXPOSE_KERNELS=numpy`` falls back."""
-    X = overlapping_clusters(5)
+    X = overlapping_clusters(5, d=dim)
     model = MPPCA(3, n_latent=n_latent, max_iter=4, random_state=0, chunk_size=41).fit(X)
     far = X[:50] * 40.0  # hundreds of nats between components: exact zeros in the responsibilities
     rows = np.concatenate([X, far])
@@ -489,5 +489,36 @@ def test_the_screen_groups_the_latent_columns_by_coordinate():
     order = [0, 1, 2, 3, 5, 7, 4, 6, 8]
     np.testing.assert_array_equal(screen.stack32, proj.stack[:, order].astype(np.float32))
     np.testing.assert_allclose(screen.col_norm, np.linalg.norm(proj.stack[:, order], axis=0), rtol=1e-15)
-    for k in range(3):  # the exact evaluation's columns: component k's mean, then its latent coordinates
-        np.testing.assert_array_equal(screen.stack_rows[k], proj.stack[:, [k, 3 + 2 * k, 4 + 2 * k]])
+    assert screen.stack_rows.shape[2] == mppca_kernels.padded_width(2) == 8
+    for k in range(3):  # the exact evaluation's columns: component k's mean, its latent coordinates, then zeros
+        np.testing.assert_array_equal(screen.stack_rows[k, :, :3], proj.stack[:, [k, 3 + 2 * k, 4 + 2 * k]])
+        assert not screen.stack_rows[k, :, 3:].any()
+
+
+@pytest.mark.parametrize("n_latent", [0, 5, 7, 9])
+def test_exact_joint_sums_each_coordinate_in_column_order_bit_for_bit(n_latent):
+    """``mppca_kernels._exact_joint`` keeps eight sums in local accumulators; each must still add ``x_i s_ij``
+    over i = 0, 1, ... one term at a time from 0.0, as plain Python does, so the result is the same to the bit
+    (q = 7 fills one block of eight exactly, q = 9 spills into a second), and the log joint follows from them."""
+    rng = np.random.default_rng(n_latent)
+    n_cols, n_components = 201, 3
+    width = mppca_kernels.padded_width(n_latent)
+    assert width % mppca_kernels.ACCUMULATORS == 0 and n_latent + 1 <= width < n_latent + 1 + 8
+    x1 = rng.normal(size=(2, n_cols)) * np.exp(rng.normal(size=n_cols) * 3.0)  # wide range: order matters
+    stack_rows = np.zeros((n_components, n_cols, width))
+    stack_rows[:, :, : n_latent + 1] = rng.normal(size=(n_components, n_cols, n_latent + 1))
+    noise, log_norm = np.array([0.5, 0.25, 2.0]), np.array([-3.0, -1.0, -2.0])
+    sqnorm = float(np.sum(x1[1, :-1] ** 2))
+    acc = np.empty(n_latent + 1)
+    got = mppca_kernels._exact_joint(x1, 1, stack_rows, 2, sqnorm, noise, log_norm, n_latent, acc)
+    want = []
+    for j in range(n_latent + 1):
+        total = 0.0
+        for i in range(n_cols):
+            total += float(x1[1, i]) * float(stack_rows[2, i, j])
+        want.append(total)
+    assert acc.tolist() == want
+    latent = 0.0
+    for value in want[1:]:
+        latent += value * value
+    assert got == ((sqnorm - want[0] * 2.0) - latent) / 2.0 * -0.5 + -2.0

@@ -164,8 +164,9 @@ class _Screen(NamedTuple):
     """The compiled scoring path's constants of one projection (:mod:`voxpose.features.mppca_kernels`).
 
     stack32 the projection's stack in float32, its columns in ``mppca_kernels.screen_order``; stack_rows
-    (K, d + 1, q + 1) each component's stack columns side by side (mean first); col_norm (K (q + 1),) the
-    Euclidean norms of stack32's columns, taken in float64; gamma the float32 dot product's error factor.
+    (K, d + 1, ``mppca_kernels.padded_width(q)``) each component's stack columns side by side (mean first), then
+    zero columns; col_norm (K (q + 1),) the Euclidean norms of stack32's columns, taken in float64; gamma the
+    float32 dot product's error factor.
     """
 
     stack32: np.ndarray
@@ -178,9 +179,10 @@ def _screen(proj):
     """The ``_Screen`` of a float64 projection."""
     n_components, n_latent = proj.chol.shape[:2]
     stack = proj.stack
-    rows = np.empty((n_components, stack.shape[0], n_latent + 1))
+    rows = np.zeros((n_components, stack.shape[0], mppca_kernels.padded_width(n_latent)))
     rows[:, :, 0] = stack[:, :n_components].T
-    rows[:, :, 1:] = stack[:, n_components:].reshape(stack.shape[0], n_components, n_latent).transpose(1, 0, 2)
+    latent = stack[:, n_components:].reshape(stack.shape[0], n_components, n_latent)
+    rows[:, :, 1 : n_latent + 1] = latent.transpose(1, 0, 2)
     order = mppca_kernels.screen_order(n_components, n_latent)
     screened = stack[:, order]
     return _Screen(screened.astype(np.float32), rows, np.sqrt(np.einsum("ij,ij->j", screened, screened)),
