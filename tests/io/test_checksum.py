@@ -146,6 +146,25 @@ def test_the_checksum_of_decoded_arrays_is_the_files(tmp_path):
         assert content_checksum(f, contents.datasets) != content_checksum(f)
 
 
+def test_the_checksum_of_a_fixed_file_is_unchanged(tmp_path):
+    """Every file written so far carries a checksum that must still verify: the digest of a fixed file (several
+    hash blocks, float32/int32/bool/big-endian/empty/scalar/string datasets, array and string attributes) is the
+    one the hashing through ``tobytes`` gave (a703831), from the file and from the
+    decoded arrays."""
+    path = tmp_path / "m.h5"
+    _mixed_file(path)
+    with h5py.File(path, "a") as f:
+        f.create_dataset("f32", data=np.linspace(-1, 1, 600, dtype=np.float32).reshape(3, 200))
+        f.create_dataset("i32", data=np.arange(-6, 6, dtype=np.int32).reshape(4, 3))
+        f.create_dataset("flags", data=np.array([True, False, True]))
+        f.create_dataset("be", data=np.arange(5, dtype=">i8"))
+        f["f32"].attrs["heading"] = np.array([0.5, 90.0])
+    digest = "sha256:6c24b89bd7c9da5f5a96dcef7b1fb831d9adc4a15ffbc31d87e254b03c841970"
+    with h5py.File(path, "r") as f:
+        assert content_checksum(f) == digest
+        assert content_checksum(f, Contents.read(f).datasets) == digest
+
+
 def test_open_layout_decodes_every_dataset_once_and_reads_like_the_file(tmp_path, monkeypatch):
     path = tmp_path / "m.h5"
     _mixed_file(path)

