@@ -13,7 +13,8 @@ from voxpose.descriptors.file import write_descriptors
 from voxpose.descriptors.shape_context import shape_contexts
 from voxpose.errors import VoxposeError
 from voxpose.features.heading_sense import choose_senses, true_turns, turn_about
-from voxpose.features.model import FeatureModel
+from voxpose.features.model import FeatureModel, subsample
+from voxpose.features.novelty import evenly_spaced
 from voxpose.features.training_set import read_training_set
 from voxpose.motion import canon
 from voxpose.motion.data import write_motion
@@ -151,11 +152,19 @@ def training_files(tmp_path):
     return paths, motions, frames, turns
 
 
-def test_training_frames_are_turned_to_their_true_heading(training_files):
+@pytest.mark.parametrize(("n", "n_frames"), [(None, 500), (9, 5)])
+def test_training_frames_are_turned_to_their_true_heading(training_files, n, n_frames):
+    """The drawn rows and the novelty frames are those of the whole set with its frames turned first: all of them,
+    and 9 drawn rows with 5 frames (drawn and picked from turned and unturned frames alike)."""
     paths, _, frames, turns = training_files
-    got = read_training_set(paths, None, seed=0, turns=turns, n_a=N_A)
+    got = read_training_set(paths, n, seed=0, n_frames=n_frames, turns=turns, n_a=N_A)
     expected = [turn_about(d, N_A) if t else d for d, t in zip(frames, np.concatenate(turns), strict=True)]
-    assert np.array_equal(got.rows, np.concatenate(expected))
+    assert np.array_equal(got.rows, subsample(np.concatenate(expected), n, 0))
+    assert not np.array_equal(got.rows, subsample(np.concatenate(frames), n, 0))  # some drawn rows were turned
+    picked = evenly_spaced(len(expected), n_frames)
+    assert 0 < np.concatenate(turns)[picked].sum() < len(picked)
+    assert len(got.frames) == len(picked)
+    assert all(np.array_equal(a, expected[i]) for a, i in zip(got.frames, picked, strict=True))
 
 
 def test_fit_features_turns_the_training_frames_and_names_mismatched_files(training_files, tmp_path):

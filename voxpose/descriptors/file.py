@@ -44,10 +44,13 @@ class DescriptorFile(NamedTuple):
     reference_heading: np.ndarray | None
 
 
-def read_descriptor_file(path) -> DescriptorFile:
-    """Everything in a descriptor file, read (and its checksum checked) once."""
+def read_descriptor_file(path, dtype=np.float64) -> DescriptorFile:
+    """Everything in a descriptor file, read (and its checksum checked) once; the descriptors in ``dtype``, or as
+    stored (float32) with None, for a reader that keeps a few of them (``features.training_set``)."""
     with open_layout(path, "descriptors") as f:
-        desc = [d.astype(np.float64) for d in read_ragged(f, "descriptors")]
+        desc = read_ragged(f, "descriptors")
+        if dtype is not None:
+            desc = [d.astype(dtype) for d in desc]
         heading = f["reference_heading"] if "reference_heading" in f else None
         return DescriptorFile(desc, read_ragged(f, "basis_ijk"), read_meta(f), heading)
 
