@@ -7,7 +7,7 @@ from scipy.stats import multivariate_normal
 
 from voxpose.errors import NotFittedError, VoxposeError
 from voxpose.features.frame import SoftVoteRule, kmeans_features, mppca_features
-from voxpose.features.kmeans import KMeans
+from voxpose.features.kmeans import KMeans, group_sums
 from voxpose.features.mppca import MPPCA
 
 
@@ -80,6 +80,27 @@ def test_kmeans_features_equal_brute_force_soft_votes(n_nearest):
         labels = np.argmin(((X[:, None, :] - centres[None]) ** 2).sum(axis=2), axis=1)
         hist = np.array([np.bincount(labels[frame_index == f], minlength=5) / sizes[f] for f in (0, 1, 3)])
         np.testing.assert_allclose(features[[0, 1, 3]], hist, atol=1e-12)
+
+
+@pytest.mark.parametrize("n_nearest", [1, 3])
+def test_frame_sums_are_the_dense_votes_summed_by_frame_bit_for_bit(n_nearest):
+    """``SoftVoteRule.frame_sums`` adds each row's few votes into its frame's bins: the same bits as summing the
+    dense (n, K) vote rows per frame with ``group_sums``, on rows of many magnitudes in shuffled frames."""
+    rng = np.random.default_rng(n_nearest)
+    centres = rng.normal(size=(7, 4))
+    X = rng.normal(size=(3000, 4)) * np.exp(rng.normal(size=(3000, 1)) * 0.5)
+    frame_index = rng.integers(0, 11, 3000)
+    frame_index[frame_index == 4] = 5  # a frame without rows
+    rule = SoftVoteRule(n_nearest=n_nearest, bandwidth=2.0)
+    nearest, weights = rule.nearest_weights(X, centres)
+    dense = np.zeros((3000, 7))
+    np.put_along_axis(dense, nearest, weights, axis=1)
+    got = rule.frame_sums(X, centres, frame_index, 11)
+    np.testing.assert_array_equal(got, group_sums(frame_index, dense, 11))
+    assert not got[4].any() and got.sum() == pytest.approx(3000.0)
+    for f in (0, 7):  # and the brute-force votes summed
+        expected = sum(brute_force_votes(t, centres, n_nearest, 2.0) for t in X[frame_index == f])
+        np.testing.assert_allclose(got[f], expected, rtol=1e-12)
 
 
 def test_soft_vote_width_is_the_mean_nearest_centre_distance():

@@ -44,12 +44,13 @@ def _check_frames(frame_index, n_rows, n_frames):
     return frame_index.astype(np.intp, copy=False)
 
 
-def _frame_average(votes, descriptors, frame_index, n_frames, n_bins, chunk_size):
-    """Average ``votes(chunk) -> (c, n_bins)`` over each frame's rows; returns (features, counts)."""
+def _frame_average(frame_sums, descriptors, frame_index, n_frames, n_bins, chunk_size):
+    """Average the per-descriptor votes over each frame's rows; ``frame_sums(rows, their frames)`` gives a chunk's
+    votes summed per frame, (n_frames, n_bins). Returns (features, counts)."""
     totals = np.zeros((n_frames, n_bins))
     for start in range(0, descriptors.shape[0], chunk_size):
         stop = start + chunk_size
-        totals += group_sums(frame_index[start:stop], votes(descriptors[start:stop]), n_frames)
+        totals += frame_sums(descriptors[start:stop], frame_index[start:stop])
     counts = np.bincount(frame_index, minlength=n_frames)
     features = np.full((n_frames, n_bins), np.nan)
     present = counts > 0
@@ -97,16 +98,17 @@ def mppca_features(model, descriptors, frame_index, n_frames, *, chunk_size=DEFA
     chunk = integer(chunk_size, "chunk_size")
     n_components = model.weights_.shape[0]
     if not density:
-        return _frame_average(model.predict_proba, descriptors, frame_index, n_frames, n_components, chunk)
+        return _frame_average(lambda rows, frames: group_sums(frames, model.predict_proba(rows), n_frames),
+                              descriptors, frame_index, n_frames, n_components, chunk)  # fmt: skip
     log_density, done = np.empty(descriptors.shape[0]), 0
 
-    def votes(rows):
+    def sums(rows, frames):
         nonlocal done
         proba, log_density[done : done + len(rows)] = model.proba_and_score(rows)
         done += len(rows)
-        return proba
+        return group_sums(frames, proba, n_frames)
 
-    return (*_frame_average(votes, descriptors, frame_index, n_frames, n_components, chunk), log_density)
+    return (*_frame_average(sums, descriptors, frame_index, n_frames, n_components, chunk), log_density)
 
 
 @dataclass(frozen=True)
@@ -147,17 +149,26 @@ class SoftVoteRule:
             raise VoxposeError("every training descriptor coincides with a centre: no soft-vote width can be set")
         return cls(n_nearest=n_nearest, bandwidth=bandwidth_scale * mean_distance)
 
-    def votes(self, descriptors, centres):
-        """Soft votes of the rows of ``descriptors`` (n, d) into ``centres`` (K, d): (n, K), rows sum to 1."""
+    def nearest_weights(self, descriptors, centres) -> tuple[np.ndarray, np.ndarray]:
+        """The soft votes of the rows of ``descriptors`` (n, d) into ``centres`` (K, d) as (nearest, weights), both
+        (n, n_nearest): the centres each row votes for and its votes for them, which sum to 1."""
         if self.n_nearest > centres.shape[0]:
             raise VoxposeError(f"the rule votes for {self.n_nearest} centres but there are only {centres.shape[0]}")
         sqdist = squared_distances(descriptors, centres)
         nearest = np.argpartition(sqdist, self.n_nearest - 1, axis=1)[:, : self.n_nearest]
         near = np.take_along_axis(sqdist, nearest, axis=1)
         weights = np.exp(-(near - near.min(axis=1, keepdims=True)) / (2.0 * self.bandwidth**2))
-        votes = np.zeros_like(sqdist)
-        np.put_along_axis(votes, nearest, weights / weights.sum(axis=1, keepdims=True), axis=1)
-        return votes
+        return nearest, weights / weights.sum(axis=1, keepdims=True)
+
+    def frame_sums(self, descriptors, centres, frame_index, n_frames) -> np.ndarray:
+        """(n_frames, K): the votes of the rows of ``descriptors`` summed by their frame ``frame_index`` (n,), without
+        the dense (n, K) votes: each frame's bin adds the rows' votes for it in row order, starting from 0, as
+        ``kmeans.group_sums`` of the dense votes did (its other terms are zeros), so the sums are the same to the bit;
+        the dense votes cost more than the rest of a K-means features job together (see ``benchmarks``)."""
+        nearest, weights = self.nearest_weights(descriptors, centres)
+        n_bins = centres.shape[0]
+        bins = (np.asarray(frame_index)[:, None] * n_bins + nearest).ravel()
+        return np.bincount(bins, weights.ravel(), minlength=n_frames * n_bins).reshape(n_frames, n_bins)
 
 
 def kmeans_features(centres, descriptors, frame_index, n_frames, *, rule, chunk_size=DEFAULT_CHUNK_SIZE):
@@ -186,6 +197,5 @@ def kmeans_features(centres, descriptors, frame_index, n_frames, *, rule, chunk_
     descriptors = as_rows(descriptors, "descriptors", centres.shape[1], dtype=None)
     frame_index = _check_frames(frame_index, descriptors.shape[0], n_frames)
     chunk = integer(chunk_size, "chunk_size")
-    return _frame_average(
-        lambda rows: rule.votes(rows, centres), descriptors, frame_index, n_frames, centres.shape[0], chunk
-    )
+    return _frame_average(lambda rows, frames: rule.frame_sums(rows, centres, frames, n_frames), descriptors,
+                          frame_index, n_frames, centres.shape[0], chunk)  # fmt: skip
