@@ -23,6 +23,11 @@ With the screen's bounds formed over a coordinate-major product (267c750; 2026-1
 code, the same way, n10-f3c45f30f7's model and its first three default motions' rows): screened 2.32 -> 2.02-2.04
 CPU ms per 240 rows (numpy path 3.69-3.79), E-step 0.193 -> 0.162-0.164 s; the same differences from the numpy
 path (log densities 3.5e-12, statistics 5.42e-15).
+With the exact evaluation's sums in eight local accumulators (c20e52c; 2026-11-29, ``OPENBLAS_NUM_THREADS=1 taskset
+-c 0``, idle, alternated twice with cfef108's code; a real-data MPPCA, ``features/n79-5b94e29cc7/...``, and 24,000 rows
+of walk_cmu_02_01, jog_bandai2_run_normal_001 and jump_cmu_02_04, 1.97 components evaluated per row): screened
+2.09-2.10 -> 1.95-1.98 CPU ms per 240 rows, E-step 0.171 -> 0.159-0.162 s; the same differences from the numpy path
+(log densities 3.47e-12, responsibilities 2.49e-13, statistics 6.71e-15).
 """
 
 import argparse
