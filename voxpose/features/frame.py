@@ -163,8 +163,8 @@ class SoftVoteRule:
     def frame_sums(self, descriptors, centres, frame_index, n_frames) -> np.ndarray:
         """(n_frames, K): the votes of the rows of ``descriptors`` summed by their frame ``frame_index`` (n,), without
         the dense (n, K) votes: each frame's bin adds the rows' votes for it in row order, starting from 0, as
-        ``kmeans.group_sums`` of the dense votes did (its other terms are zeros), so the sums are the same to the bit;
-        the dense votes cost more than the rest of a K-means features job together (see ``benchmarks``)."""
+        ``kmeans.group_sums`` of the dense votes did (its other terms are zeros), so the sums are the same to the bit
+        (the real-data 6-view silhouette-features job: 25.2 -> 23.7 CPU s, one run each, measured under load)."""
         nearest, weights = self.nearest_weights(descriptors, centres)
         n_bins = centres.shape[0]
         bins = (np.asarray(frame_index)[:, None] * n_bins + nearest).ravel()
