@@ -52,8 +52,9 @@ def _drawn_rows(frames: list, rows: np.ndarray, turn: np.ndarray, n_a: int) -> n
     starts = np.cumsum([0] + [len(d) for d in frames])
     frame = np.searchsorted(starts, rows, side="right") - 1
     picked = np.stack([frames[f][r - starts[f]] for f, r in zip(frame, rows, strict=True)]).astype(np.float64)
-    if turn[frame].any():
-        picked[turn[frame]] = turn_about(picked[turn[frame]], n_a)
+    turned = turn[frame]
+    if turned.any():
+        picked[turned] = turn_about(picked[turned], n_a)
     return picked
 
 
